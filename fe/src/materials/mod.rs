@@ -1,0 +1,178 @@
+//! Uniaxial force-deformation materials (deformation mm, force N) with the
+//! OpenSees life cycle: trial deformation, then commit or revert.
+//!
+//! [`MaterialSpec`] is the JSON object of the `ceiling-fe-model` format's
+//! `materials` list (without its `id`); [`UniaxialMaterial`] is the law in
+//! use, with its state.
+
+use serde::{Deserialize, Serialize};
+
+/// Why a material cannot be built or stepped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MaterialError {
+    /// A parameter is out of its valid range.
+    #[error("{material}: {key} = {value}: {expected}")]
+    Parameter {
+        /// Material type name.
+        material: &'static str,
+        /// Offending key.
+        key: &'static str,
+        /// Its value.
+        value: f64,
+        /// What was expected.
+        expected: &'static str,
+    },
+    /// A trial deformation that is not a finite number.
+    #[error("non-finite trial deformation {0}")]
+    NonFinite(f64),
+}
+
+/// One-dimensional force-deformation law with memory (OpenSees `UniaxialMaterial`).
+pub trait UniaxialMaterial: Send {
+    /// Sets the trial deformation (mm); committed history is untouched.
+    fn set_trial(&mut self, d: f64) -> Result<(), MaterialError>;
+    /// Force (N) at the trial state.
+    fn force(&self) -> f64;
+    /// Tangent stiffness (N/mm) at the trial state.
+    fn tangent(&self) -> f64;
+    /// Stiffness (N/mm) of the virgin material at zero deformation.
+    fn initial_tangent(&self) -> f64;
+    /// Makes the trial state the committed state.
+    fn commit(&mut self);
+    /// Discards the trial state, returning to the last committed one.
+    fn revert(&mut self);
+    /// A fresh copy in the virgin state, with the same parameters.
+    fn boxed_clone(&self) -> Box<dyn UniaxialMaterial>;
+}
+
+/// A material definition as the JSON model format writes it (`"type"` tag).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type")]
+pub enum MaterialSpec {
+    /// f = k d.
+    Elastic {
+        /// Stiffness (N/mm).
+        k: f64,
+    },
+    /// Bilinear kinematic hardening (OpenSees Steel01, no isotropic hardening).
+    Steel01 {
+        /// Yield force (N).
+        #[serde(rename = "Fy")]
+        fy: f64,
+        /// Initial stiffness (N/mm).
+        #[serde(rename = "E0")]
+        e0: f64,
+        /// Post-yield stiffness ratio.
+        b: f64,
+    },
+    /// Compression-only gap, seed eq. 5.4: f = k (d + gap) when d + gap < 0.
+    Gap {
+        /// Contact stiffness (N/mm).
+        k: f64,
+        /// Opening (mm, >= 0).
+        gap: f64,
+    },
+    /// OpenSees ImpactMaterial (Muthukumar/Nielson bilinear contact).
+    Impact {
+        /// Initial contact stiffness (N/mm).
+        #[serde(rename = "K1")]
+        k1: f64,
+        /// Post-yield contact stiffness (N/mm).
+        #[serde(rename = "K2")]
+        k2: f64,
+        /// Yield deformation beyond closure (mm, > 0).
+        dy: f64,
+        /// Opening (mm, > 0).
+        gap: f64,
+    },
+    /// Lowes–Altoontash Pinching4 as OpenSees implements it.
+    Pinching4(Box<Pinching4Spec>),
+}
+
+/// Pinching4 parameters, named as in the JSON format.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct Pinching4Spec {
+    /// Positive backbone forces (N).
+    pub ePf: [f64; 4],
+    /// Positive backbone deformations (mm).
+    pub ePd: [f64; 4],
+    /// Negative backbone forces (N, negative numbers).
+    pub eNf: [f64; 4],
+    /// Negative backbone deformations (mm, negative numbers).
+    pub eNd: [f64; 4],
+    /// Reloading deformation ratio, positive side.
+    pub rDispP: f64,
+    /// Reloading force ratio, positive side.
+    pub rForceP: f64,
+    /// Unloading force ratio, positive side.
+    pub uForceP: f64,
+    /// Reloading deformation ratio, negative side.
+    pub rDispN: f64,
+    /// Reloading force ratio, negative side.
+    pub rForceN: f64,
+    /// Unloading force ratio, negative side.
+    pub uForceN: f64,
+    /// Unloading stiffness degradation coefficients.
+    pub gK: [f64; 4],
+    /// Unloading stiffness degradation limit.
+    pub gKLim: f64,
+    /// Reloading stiffness degradation coefficients.
+    pub gD: [f64; 4],
+    /// Reloading stiffness degradation limit.
+    pub gDLim: f64,
+    /// Strength degradation coefficients.
+    pub gF: [f64; 4],
+    /// Strength degradation limit.
+    pub gFLim: f64,
+    /// Energy dissipation factor.
+    pub gE: f64,
+    /// Damage type: `"cycle"` or `"energy"`.
+    pub dmgType: String,
+}
+
+impl MaterialSpec {
+    /// Type name as the JSON writes it.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            MaterialSpec::Elastic { .. } => "Elastic",
+            MaterialSpec::Steel01 { .. } => "Steel01",
+            MaterialSpec::Gap { .. } => "Gap",
+            MaterialSpec::Impact { .. } => "Impact",
+            MaterialSpec::Pinching4(_) => "Pinching4",
+        }
+    }
+
+    /// Stiffness (N/mm) at zero deformation in the virgin state, as the
+    /// eigen analysis of the format uses it (gaps open: 0).
+    pub fn initial_tangent(&self) -> f64 {
+        match self {
+            MaterialSpec::Elastic { k } => *k,
+            MaterialSpec::Steel01 { e0, .. } => *e0,
+            MaterialSpec::Gap { k, gap } => {
+                if *gap > 0.0 {
+                    0.0
+                } else {
+                    *k
+                }
+            }
+            MaterialSpec::Impact { .. } => 0.0,
+            // OpenSees takes the stiffer of the two first backbone slopes.
+            MaterialSpec::Pinching4(p) => (p.ePf[0] / p.ePd[0]).max(p.eNf[0] / p.eNd[0]),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_format_objects_with_descriptive_keys() {
+        let m: MaterialSpec =
+            serde_json::from_str(r#"{"type": "Steel01", "Fy": 2.0, "E0": 20.0, "b": 0.05, "note": "x"}"#)
+                .unwrap();
+        assert_eq!(m, MaterialSpec::Steel01 { fy: 2.0, e0: 20.0, b: 0.05 });
+        assert_eq!(m.initial_tangent(), 20.0);
+    }
+}

@@ -1,0 +1,26 @@
+//! Messages between the ceilfarm coordinator and its workers, their binary
+//! codec, and the [`Transport`] interface every transport implements.
+//!
+//! Roles: the coordinator turns a design into [`Task`]s; a worker runs the
+//! study's model on each and answers with a [`TaskResult`] whose
+//! [`Outcome`] is either [`Outputs`] (named scalars and time histories) or a
+//! failure with its reason. Nothing here knows the physics of any model or
+//! which transport carries the bytes.
+//!
+//! ```
+//! use protocol::{codec, Task, TaskId, ToWorker};
+//! let msg = ToWorker::Task(Task { id: TaskId(7), params: vec![0.5, 1.0] });
+//! let bytes = codec::encode(&msg).unwrap();
+//! let back: ToWorker = codec::decode(&bytes).unwrap();
+//! assert_eq!(back, msg);
+//! ```
+
+pub mod codec;
+pub mod messages;
+pub mod transport;
+
+pub use messages::*;
+pub use transport::{Transport, TransportError, TransportEvent, WorkerId};
+
+/// Version of the message layout; peers with another version are refused.
+pub const PROTOCOL_VERSION: u16 = 1;

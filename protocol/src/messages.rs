@@ -1,0 +1,146 @@
+//! The task and result messages exchanged between coordinator and workers.
+
+use serde::{Deserialize, Serialize};
+
+/// Identifier of one design point within a study (its row in the design).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub struct TaskId(pub u64);
+
+impl std::fmt::Display for TaskId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "task {}", self.0)
+    }
+}
+
+/// What a worker needs to build the study's model once, before any task.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelSpec {
+    /// Registry name of the model kind (`"borehole"`, `"ceiling-modal"`, ...).
+    pub kind: String,
+    /// The study's `[model]` options as JSON text (kind-specific).
+    pub options_json: String,
+    /// Parameter names, in the order of every task's `params`.
+    pub param_names: Vec<String>,
+    /// Output names the study keeps (empty = all the model produces).
+    pub outputs: Vec<String>,
+}
+
+/// One run to do: a parameter set in physical units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Task {
+    /// The design point this run evaluates.
+    pub id: TaskId,
+    /// Parameter values in the order of [`ModelSpec::param_names`].
+    pub params: Vec<f64>,
+}
+
+/// Named time histories sharing one time step, stored row-major.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct History {
+    /// Name of the group (e.g. `"sensors"`).
+    pub name: String,
+    /// Sampling step in seconds.
+    pub dt_s: f64,
+    /// Channel names, one per column (units in the name, e.g. `A13_accel_m_s2`).
+    pub channels: Vec<String>,
+    /// Samples, `n_samples x channels.len()`, row-major.
+    pub data: Vec<f64>,
+}
+
+impl History {
+    /// Number of time samples (rows).
+    pub fn n_samples(&self) -> usize {
+        if self.channels.is_empty() {
+            0
+        } else {
+            self.data.len() / self.channels.len()
+        }
+    }
+
+    /// One channel as a column vector, or `None` if the name is unknown.
+    pub fn channel(&self, name: &str) -> Option<Vec<f64>> {
+        let c = self.channels.iter().position(|n| n == name)?;
+        let w = self.channels.len();
+        Some(self.data.chunks_exact(w).map(|row| row[c]).collect())
+    }
+}
+
+/// What a successful run produced.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Outputs {
+    /// Named scalar results (e.g. `f1_hz`), in the model's order.
+    pub scalars: Vec<(String, f64)>,
+    /// Time histories, if the model records any.
+    pub histories: Vec<History>,
+}
+
+impl Outputs {
+    /// Value of a named scalar.
+    pub fn scalar(&self, name: &str) -> Option<f64> {
+        self.scalars.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
+    }
+}
+
+/// The result of one run: outputs, or a failure kept as data.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Outcome {
+    /// The model ran to the end.
+    Ok(Outputs),
+    /// The model reported an error, panicked or timed out.
+    Failed {
+        /// Human-readable reason, e.g. `"newton: no convergence at t = 3.2 s"`.
+        reason: String,
+    },
+}
+
+/// A worker's answer to one task.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskResult {
+    /// Which task this answers.
+    pub id: TaskId,
+    /// What happened.
+    pub outcome: Outcome,
+    /// Wall time the model took, in seconds.
+    pub wall_s: f64,
+    /// Host name of the worker.
+    pub host: String,
+}
+
+/// Messages from the coordinator to a worker.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum ToWorker {
+    /// Accepts the worker into a sweep and tells it the model to build.
+    Welcome {
+        /// Hash of the study's result-affecting keys (hex).
+        study_hash: String,
+        /// The model every following task runs.
+        model: ModelSpec,
+    },
+    /// Refuses the worker, with the reason (e.g. a version mismatch).
+    Refuse {
+        /// Why the worker is not accepted.
+        reason: String,
+    },
+    /// Run this task.
+    Task(Task),
+    /// Finish the current task, then exit.
+    Shutdown,
+}
+
+/// Messages from a worker to the coordinator.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum FromWorker {
+    /// Announces a worker, its protocol version and how many tasks it may hold.
+    Hello {
+        /// Protocol version the worker was built with.
+        proto: u16,
+        /// Worker's name (unique per process).
+        name: String,
+        /// How many tasks it runs at once.
+        threads: u32,
+    },
+    /// The answer to a task.
+    Result(TaskResult),
+    /// The worker stops; tasks it held are handed back.
+    Goodbye,
+}

@@ -1,0 +1,108 @@
+//! The model registry: the study's `[model] kind` → a constructor.
+
+use crate::model::{Model, ModelError};
+use crate::models::analytic::{Borehole, Ishigami, Noop, SobolG};
+use crate::models::costed::Costed;
+use crate::models::faults::Faults;
+use crate::models::oscillator::Oscillator;
+use protocol::ModelSpec;
+use serde::de::DeserializeOwned;
+use serde_json::{Map, Value};
+use std::time::Duration;
+
+type Constructor = fn(Value, &[String]) -> Result<Box<dyn Model>, ModelError>;
+
+/// Every registered kind with its constructor.
+const KINDS: &[(&str, Constructor)] = &[
+    ("ishigami", |o, n| Ok(Box::new(Ishigami::new(options("ishigami", o)?, n)?))),
+    ("sobol-g", |o, n| Ok(Box::new(SobolG::new(options("sobol-g", o)?, n)?))),
+    ("borehole", |o, n| {
+        options::<Empty>("borehole", o)?;
+        Ok(Box::new(Borehole::new(n)?))
+    }),
+    ("oscillator", |o, n| Ok(Box::new(Oscillator::new(options("oscillator", o)?, n)?))),
+    ("noop", |o, _| {
+        options::<Empty>("noop", o)?;
+        Ok(Box::new(Noop))
+    }),
+    ("test-faults", |o, n| Ok(Box::new(Faults::new(options("test-faults", o)?, n)?))),
+];
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Empty {}
+
+fn options<T: DeserializeOwned>(kind: &str, v: Value) -> Result<T, ModelError> {
+    serde_json::from_value(v)
+        .map_err(|e| ModelError::Invalid { kind: kind.into(), message: format!("[model] options: {e}") })
+}
+
+/// Names of all registered model kinds.
+pub fn kinds() -> Vec<&'static str> {
+    KINDS.iter().map(|(k, _)| *k).collect()
+}
+
+/// Builds the model a spec names; `cost_ms` (any kind) adds an artificial cost per run.
+pub fn build(spec: &ModelSpec) -> Result<Box<dyn Model>, ModelError> {
+    let invalid = |message: String| ModelError::Invalid { kind: spec.kind.clone(), message };
+    let mut opts: Map<String, Value> = if spec.options_json.trim().is_empty() {
+        Map::new()
+    } else {
+        serde_json::from_str(&spec.options_json).map_err(|e| invalid(format!("options: {e}")))?
+    };
+    let cost_ms = match opts.remove("cost_ms") {
+        None => 0.0,
+        Some(v) => v
+            .as_f64()
+            .filter(|c| c.is_finite() && *c >= 0.0)
+            .ok_or_else(|| invalid(format!("cost_ms = {v}: expected a number of milliseconds >= 0")))?,
+    };
+    let (_, ctor) = KINDS.iter().find(|(k, _)| *k == spec.kind).ok_or_else(|| ModelError::UnknownKind {
+        kind: spec.kind.clone(),
+        known: kinds().join(", "),
+    })?;
+    let model = ctor(Value::Object(opts), &spec.param_names)?;
+    Ok(if cost_ms > 0.0 {
+        Box::new(Costed { inner: model, cost: Duration::from_secs_f64(cost_ms / 1000.0) })
+    } else {
+        model
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(kind: &str, opts: &str, names: &[&str]) -> ModelSpec {
+        ModelSpec {
+            kind: kind.into(),
+            options_json: opts.into(),
+            param_names: names.iter().map(|s| s.to_string()).collect(),
+            outputs: vec![],
+        }
+    }
+
+    #[test]
+    fn unknown_kind_lists_the_known_ones() {
+        let err = build(&spec("nope", "{}", &[])).err().unwrap().to_string();
+        assert!(err.contains("unknown model kind `nope`") && err.contains("borehole"), "{err}");
+    }
+
+    #[test]
+    fn unknown_option_is_named() {
+        let err = build(&spec("ishigami", r#"{"aa": 1}"#, &["x1", "x2", "x3"])).err().unwrap().to_string();
+        assert!(err.contains("unknown field `aa`"), "{err}");
+    }
+
+    #[test]
+    fn missing_parameter_is_named() {
+        let err = build(&spec("ishigami", "{}", &["x1", "x2"])).err().unwrap().to_string();
+        assert!(err.contains("`x3`"), "{err}");
+    }
+
+    #[test]
+    fn negative_cost_is_refused() {
+        let err = build(&spec("noop", r#"{"cost_ms": -1}"#, &[])).err().unwrap().to_string();
+        assert!(err.contains("cost_ms"), "{err}");
+    }
+}
