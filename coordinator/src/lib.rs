@@ -1,3 +1,15 @@
 //! The coordinator: reads a study, draws its design, runs it on a farm of
 //! workers through a transport, keeps every result in a crash-safe store,
 //! and runs the analyses centrally.
+//!
+//! Data flows one way: [`study::Study`] → [`design`] → [`store::Store`] →
+//! [`farm::run_farm`] (through a [`protocol::Transport`]) → store →
+//! [`export`] and the analyses.
+
+pub mod design;
+pub mod export;
+pub mod farm;
+pub mod progress;
+pub mod store;
+pub mod study;
+pub mod sweep;

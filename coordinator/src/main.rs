@@ -6,19 +6,52 @@ use clap::{Parser, Subcommand};
 mod commands;
 
 /// Sweeps, surrogates, calibration and diagnosis for suspended-ceiling models.
+///
+/// Start with `ceilfarm run configs/borehole.toml --store runs/borehole.db`,
+/// then `ceilfarm export runs/borehole.db --out borehole.csv`.
 #[derive(Parser)]
 #[command(name = "ceilfarm", version, about, long_about = None)]
 struct Cli {
+    /// More log output (repeat for more); RUST_LOG overrides.
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    verbose: u8,
     #[command(subcommand)]
     command: Command,
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Run a study's sweep into a store, or finish it with --resume.
+    Run(commands::sweep::RunArgs),
+    /// Write a study's design (physical units) as CSV without running it.
+    Design(commands::sweep::DesignArgs),
+    /// Export a store: one row per run, inputs and scalar outputs.
+    Export(commands::sweep::ExportArgs),
+    /// Count what a store holds: done, failed, missing.
+    Status(commands::sweep::StatusArgs),
+}
+
+fn init_logging(verbose: u8) {
+    let default = match verbose {
+        0 => "warn",
+        1 => "info",
+        _ => "debug",
+    };
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env()
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(default));
+    let _ =
+        tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).try_init();
+}
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
-    let result: anyhow::Result<()> = match cli.command {};
+    init_logging(cli.verbose);
+    let result = match cli.command {
+        Command::Run(a) => commands::sweep::run(a),
+        Command::Design(a) => commands::sweep::design(a),
+        Command::Export(a) => commands::sweep::export(a),
+        Command::Status(a) => commands::sweep::status(a),
+    };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {

@@ -16,6 +16,7 @@
 //! ```
 
 pub mod codec;
+pub mod in_process;
 pub mod messages;
 pub mod transport;
 

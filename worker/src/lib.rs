@@ -25,4 +25,4 @@ pub mod registry;
 pub mod run;
 
 pub use model::{Model, ModelError, ParamSet, RunContext, RunError};
-pub use run::run_task;
+pub use run::{run_task, LocalRunner};

@@ -33,8 +33,10 @@ const KINDS: &[(&str, Constructor)] = &[
 struct Empty {}
 
 fn options<T: DeserializeOwned>(kind: &str, v: Value) -> Result<T, ModelError> {
-    serde_json::from_value(v)
-        .map_err(|e| ModelError::Invalid { kind: kind.into(), message: format!("[model] options: {e}") })
+    serde_json::from_value(v).map_err(|e| ModelError::Invalid {
+        kind: kind.into(),
+        message: format!("[model] options: {e}"),
+    })
 }
 
 /// Names of all registered model kinds.
@@ -52,14 +54,12 @@ pub fn build(spec: &ModelSpec) -> Result<Box<dyn Model>, ModelError> {
     };
     let cost_ms = match opts.remove("cost_ms") {
         None => 0.0,
-        Some(v) => v
-            .as_f64()
-            .filter(|c| c.is_finite() && *c >= 0.0)
-            .ok_or_else(|| invalid(format!("cost_ms = {v}: expected a number of milliseconds >= 0")))?,
+        Some(v) => v.as_f64().filter(|c| c.is_finite() && *c >= 0.0).ok_or_else(|| {
+            invalid(format!("cost_ms = {v}: expected a number of milliseconds >= 0"))
+        })?,
     };
-    let (_, ctor) = KINDS.iter().find(|(k, _)| *k == spec.kind).ok_or_else(|| ModelError::UnknownKind {
-        kind: spec.kind.clone(),
-        known: kinds().join(", "),
+    let (_, ctor) = KINDS.iter().find(|(k, _)| *k == spec.kind).ok_or_else(|| {
+        ModelError::UnknownKind { kind: spec.kind.clone(), known: kinds().join(", ") }
     })?;
     let model = ctor(Value::Object(opts), &spec.param_names)?;
     Ok(if cost_ms > 0.0 {
@@ -90,7 +90,10 @@ mod tests {
 
     #[test]
     fn unknown_option_is_named() {
-        let err = build(&spec("ishigami", r#"{"aa": 1}"#, &["x1", "x2", "x3"])).err().unwrap().to_string();
+        let err = build(&spec("ishigami", r#"{"aa": 1}"#, &["x1", "x2", "x3"]))
+            .err()
+            .unwrap()
+            .to_string();
         assert!(err.contains("unknown field `aa`"), "{err}");
     }
 

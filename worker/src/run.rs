@@ -12,7 +12,12 @@ pub fn run_task(model: &dyn Model, names: &[String], id: TaskId, params: &[f64])
 }
 
 /// As [`run_task`], with a caller-owned context (for cancellation).
-pub fn run_task_with(model: &dyn Model, names: &[String], ctx: &RunContext, params: &[f64]) -> Outcome {
+pub fn run_task_with(
+    model: &dyn Model,
+    names: &[String],
+    ctx: &RunContext,
+    params: &[f64],
+) -> Outcome {
     let result = catch_unwind(AssertUnwindSafe(|| {
         let p = ParamSet::new(names, params)?;
         model.run(&p, ctx)
@@ -37,4 +42,45 @@ fn panic_message(payload: &Box<dyn std::any::Any + Send>) -> String {
 /// Host name of this machine, for provenance.
 pub fn host_name() -> String {
     gethostname::gethostname().to_string_lossy().into_owned()
+}
+
+/// Runs a built model for the in-process transport.
+pub struct LocalRunner {
+    model: Box<dyn Model>,
+    names: Vec<String>,
+    host: String,
+}
+
+impl LocalRunner {
+    /// A runner for `spec`, or the reason the model cannot be built.
+    pub fn new(spec: &protocol::ModelSpec) -> Result<Self, crate::ModelError> {
+        Ok(Self {
+            model: crate::registry::build(spec)?,
+            names: spec.param_names.clone(),
+            host: host_name(),
+        })
+    }
+
+    /// A factory for [`protocol::in_process::InProcess`].
+    pub fn factory() -> protocol::in_process::RunnerFactory {
+        Arc::new(|spec| {
+            LocalRunner::new(spec)
+                .map(|r| Box::new(r) as Box<dyn protocol::in_process::TaskRunner>)
+                .map_err(|e| e.to_string())
+        })
+    }
+}
+
+impl protocol::in_process::TaskRunner for LocalRunner {
+    fn run(&mut self, task: &protocol::Task, cancel: &Arc<AtomicBool>) -> protocol::TaskResult {
+        let start = std::time::Instant::now();
+        let ctx = RunContext::new(task.id, cancel.clone());
+        let outcome = run_task_with(self.model.as_ref(), &self.names, &ctx, &task.params);
+        protocol::TaskResult {
+            id: task.id,
+            outcome,
+            wall_s: start.elapsed().as_secs_f64(),
+            host: self.host.clone(),
+        }
+    }
 }

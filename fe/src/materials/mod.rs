@@ -169,9 +169,10 @@ mod tests {
 
     #[test]
     fn parses_format_objects_with_descriptive_keys() {
-        let m: MaterialSpec =
-            serde_json::from_str(r#"{"type": "Steel01", "Fy": 2.0, "E0": 20.0, "b": 0.05, "note": "x"}"#)
-                .unwrap();
+        let m: MaterialSpec = serde_json::from_str(
+            r#"{"type": "Steel01", "Fy": 2.0, "E0": 20.0, "b": 0.05, "note": "x"}"#,
+        )
+        .unwrap();
         assert_eq!(m, MaterialSpec::Steel01 { fy: 2.0, e0: 20.0, b: 0.05 });
         assert_eq!(m.initial_tangent(), 20.0);
     }

@@ -33,12 +33,19 @@ fn invalid(kind: &str, message: String) -> ModelError {
 }
 
 /// Indices of `wanted` parameters in `names`, or an error naming the first missing one.
-pub fn param_indices(kind: &str, names: &[String], wanted: &[&str]) -> Result<Vec<usize>, ModelError> {
+pub fn param_indices(
+    kind: &str,
+    names: &[String],
+    wanted: &[&str],
+) -> Result<Vec<usize>, ModelError> {
     wanted
         .iter()
         .map(|w| {
             names.iter().position(|n| n == w).ok_or_else(|| {
-                invalid(kind, format!("needs a parameter named `{w}` (study has: {})", names.join(", ")))
+                invalid(
+                    kind,
+                    format!("needs a parameter named `{w}` (study has: {})", names.join(", ")),
+                )
             })
         })
         .collect()
@@ -82,7 +89,8 @@ impl Model for Ishigami {
     }
     fn run(&self, p: &ParamSet<'_>, _: &RunContext) -> Result<Outputs, RunError> {
         let v = p.values();
-        let y = ishigami([v[self.idx[0]], v[self.idx[1]], v[self.idx[2]]], self.opts.a, self.opts.b);
+        let y =
+            ishigami([v[self.idx[0]], v[self.idx[1]], v[self.idx[2]]], self.opts.a, self.opts.b);
         Ok(Outputs { scalars: vec![("y".into(), y)], histories: vec![] })
     }
 }
@@ -148,7 +156,10 @@ impl Model for Borehole {
         let v = p.values();
         let x: [f64; 8] = std::array::from_fn(|k| v[self.idx[k]]);
         if x[0] <= 0.0 || x[1] <= x[0] {
-            return Err(RunError::Input(format!("borehole needs 0 < rw < r, got rw = {}, r = {}", x[0], x[1])));
+            return Err(RunError::Input(format!(
+                "borehole needs 0 < rw < r, got rw = {}, r = {}",
+                x[0], x[1]
+            )));
         }
         Ok(Outputs { scalars: vec![("y".into(), borehole(x))], histories: vec![] })
     }

@@ -49,7 +49,11 @@ impl Oscillator {
     fn value(&self, p: &ParamSet<'_>, name: &str) -> Result<f64, RunError> {
         match p.get(name) {
             Some(v) => Ok(v),
-            None => self.fixed.get(name).copied().ok_or_else(|| RunError::Input(format!("`{name}` missing"))),
+            None => self
+                .fixed
+                .get(name)
+                .copied()
+                .ok_or_else(|| RunError::Input(format!("`{name}` missing"))),
         }
     }
 }

@@ -1,0 +1,159 @@
+//! `run`, `design`, `export` and `status`: the sweep subcommands.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use coordinator::store::Store;
+use coordinator::study::{format_value, Study};
+use coordinator::sweep::{run_sweep, SweepOptions};
+use std::path::PathBuf;
+
+/// `ceilfarm run`: run or resume a sweep.
+#[derive(Args)]
+pub struct RunArgs {
+    /// The study file (TOML).
+    pub study: PathBuf,
+    /// The dataset store (SQLite) to create or, with --resume, to finish.
+    #[arg(long)]
+    pub store: PathBuf,
+    /// Finish an interrupted sweep: run only what the store is missing
+    /// (starts afresh if the store does not exist yet).
+    #[arg(long)]
+    pub resume: bool,
+    /// Number of workers (default: the study's, else the machine's cores).
+    #[arg(long)]
+    pub workers: Option<usize>,
+    /// Transport (only in-process is built into this binary).
+    #[arg(long, value_enum, default_value_t = TransportArg::InProcess)]
+    pub transport: TransportArg,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Print a JSON summary on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Transports this binary can use.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum TransportArg {
+    /// Worker threads in this process.
+    InProcess,
+}
+
+/// `ceilfarm run`.
+pub fn run(args: RunArgs) -> Result<()> {
+    let study = Study::load(&args.study)?;
+    if args.workers == Some(0) {
+        bail!("--workers 0: expected at least 1 worker");
+    }
+    let opts = SweepOptions {
+        store: args.store,
+        resume: args.resume,
+        workers: args.workers,
+        quiet: args.quiet,
+    };
+    let report = run_sweep(&study, &opts)?;
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else if !args.quiet {
+        eprintln!(
+            "{}: {} runs in the store ({} before this run, {} ok and {} failed now) in {:.2} s with {} workers",
+            report.store, report.tasks, report.already_done, report.ok, report.failed, report.wall_s, report.workers
+        );
+    }
+    Ok(())
+}
+
+/// `ceilfarm design`: write a study's design in physical units.
+#[derive(Args)]
+pub struct DesignArgs {
+    /// The study file (TOML).
+    pub study: PathBuf,
+    /// Output CSV (`task_id` then one column per parameter).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// `ceilfarm design`.
+pub fn design(args: DesignArgs) -> Result<()> {
+    let study = Study::load(&args.study)?;
+    let unit = coordinator::design::draw(
+        study.design.method,
+        study.design.n,
+        study.parameters.len(),
+        study.design.seed,
+    );
+    let mut w =
+        csv::Writer::from_path(&args.out).with_context(|| args.out.display().to_string())?;
+    let mut header = vec!["task_id".to_string()];
+    header.extend(study.parameters.iter().map(|p| p.name.clone()));
+    w.write_record(&header)?;
+    for (i, row) in unit.to_physical(&study.parameters).iter().enumerate() {
+        let mut rec = vec![i.to_string()];
+        rec.extend(row.iter().map(|v| format_value(*v)));
+        w.write_record(&rec)?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// Export formats.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum ExportFormat {
+    /// Comma-separated text.
+    Csv,
+}
+
+/// `ceilfarm export`: a store as a table.
+#[derive(Args)]
+pub struct ExportArgs {
+    /// The dataset store.
+    pub store: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = ExportFormat::Csv)]
+    pub format: ExportFormat,
+    /// Output file.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also write each run's time histories into this directory.
+    #[arg(long)]
+    pub histories: Option<PathBuf>,
+}
+
+/// `ceilfarm export`.
+pub fn export(args: ExportArgs) -> Result<()> {
+    let store = Store::open(&args.store)?;
+    match args.format {
+        ExportFormat::Csv => coordinator::export::export_csv(&store, &args.out)?,
+    };
+    if let Some(dir) = &args.histories {
+        coordinator::export::export_histories(&store, dir)?;
+    }
+    Ok(())
+}
+
+/// `ceilfarm status`: what a store holds.
+#[derive(Args)]
+pub struct StatusArgs {
+    /// The dataset store.
+    pub store: PathBuf,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `ceilfarm status`.
+pub fn status(args: StatusArgs) -> Result<()> {
+    let store = Store::open(&args.store)?;
+    let (ok, failed, missing) = store.counts()?;
+    let name = store.meta("study_name")?.unwrap_or_default();
+    if args.json {
+        println!(
+            "{}",
+            serde_json::json!({"study": name, "ok": ok, "failed": failed, "missing": missing})
+        );
+    } else {
+        println!("{name}: {ok} ok, {failed} failed, {missing} missing");
+    }
+    Ok(())
+}

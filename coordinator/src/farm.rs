@@ -1,0 +1,364 @@
+//! The farm: hands tasks to workers through any [`Transport`], keeps a lease
+//! on each task, retries failures, re-issues the tasks of workers that leave,
+//! drops late duplicates, and passes each result exactly once to a sink.
+
+use protocol::{ModelSpec, Outcome, Task, TaskId, TaskResult, Transport, TransportEvent, WorkerId};
+use std::collections::{BTreeMap, HashMap, VecDeque};
+use std::time::{Duration, Instant};
+
+/// Farm settings (none of them changes results).
+#[derive(Debug, Clone)]
+pub struct FarmSettings {
+    /// Time one task may take before it is given up.
+    pub task_timeout: Duration,
+    /// How often a failed or timed-out task is tried again.
+    pub max_retries: u32,
+    /// Tasks a worker may hold per slot (1 = no prefetch).
+    pub window_per_slot: usize,
+    /// How many times a task may be lost with its worker before it counts as failed.
+    pub max_worker_losses: u32,
+}
+
+impl Default for FarmSettings {
+    fn default() -> Self {
+        Self {
+            task_timeout: Duration::from_secs(3600),
+            max_retries: 1,
+            window_per_slot: 2,
+            max_worker_losses: 3,
+        }
+    }
+}
+
+/// Why the farm stopped before finishing.
+#[derive(Debug, thiserror::Error)]
+pub enum FarmError {
+    /// The transport failed.
+    #[error(transparent)]
+    Transport(#[from] protocol::TransportError),
+    /// The sink (store) refused a result.
+    #[error("recording results: {0}")]
+    Sink(String),
+}
+
+/// Where finished tasks go (the store); called with batches of final results.
+pub trait ResultSink {
+    /// Keeps these final results; an error stops the farm.
+    fn accept(&mut self, results: &[TaskResult]) -> Result<(), String>;
+}
+
+/// Watches a sweep (progress bars, logs); never changes the numbers.
+pub trait FarmObserver {
+    /// A task reached its final result.
+    fn finished(&mut self, _result: &TaskResult) {}
+    /// A task failed and will be tried again.
+    fn retrying(&mut self, _task: TaskId, _reason: &str) {}
+    /// A worker joined or left.
+    fn membership(&mut self, _joined: bool, _worker: WorkerId, _detail: &str) {}
+    /// A message was rejected by the transport.
+    fn rejected(&mut self, _reason: &str) {}
+}
+
+/// An observer that does nothing.
+pub struct Silent;
+impl FarmObserver for Silent {}
+
+/// What the farm did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FarmSummary {
+    /// Tasks finished with outputs.
+    pub ok: usize,
+    /// Tasks recorded as failed.
+    pub failed: usize,
+    /// Tries beyond the first (failures, timeouts, lost workers).
+    pub reissued: usize,
+    /// Late or duplicate results dropped.
+    pub duplicates: usize,
+}
+
+struct Lease {
+    worker: WorkerId,
+    deadline: Instant,
+}
+
+struct WorkerState {
+    capacity: usize,
+    held: Vec<TaskId>,
+    last_deadline: Instant,
+}
+
+/// One sweep's bookkeeping.
+struct Farm<'a> {
+    settings: &'a FarmSettings,
+    pending: VecDeque<Task>,
+    tasks: HashMap<TaskId, Task>,
+    leases: HashMap<TaskId, Lease>,
+    workers: BTreeMap<WorkerId, WorkerState>,
+    tries: HashMap<TaskId, u32>,
+    losses: HashMap<TaskId, u32>,
+    summary: FarmSummary,
+    remaining: usize,
+}
+
+/// Runs `tasks` to completion on the transport, feeding final results to `sink`.
+pub fn run_farm(
+    transport: &mut dyn Transport,
+    study_hash: &str,
+    model: &ModelSpec,
+    tasks: Vec<Task>,
+    settings: &FarmSettings,
+    sink: &mut dyn ResultSink,
+    observer: &mut dyn FarmObserver,
+) -> Result<FarmSummary, FarmError> {
+    let mut farm = Farm {
+        settings,
+        remaining: tasks.len(),
+        tasks: tasks.iter().map(|t| (t.id, t.clone())).collect(),
+        pending: tasks.into(),
+        leases: HashMap::new(),
+        workers: BTreeMap::new(),
+        tries: HashMap::new(),
+        losses: HashMap::new(),
+        summary: FarmSummary::default(),
+    };
+    if farm.remaining == 0 {
+        return Ok(farm.summary);
+    }
+    transport.start(study_hash, model)?;
+    let result = farm.drive(transport, sink, observer);
+    transport.shutdown();
+    result.map(|()| farm.summary)
+}
+
+impl Farm<'_> {
+    fn drive(
+        &mut self,
+        t: &mut dyn Transport,
+        sink: &mut dyn ResultSink,
+        obs: &mut dyn FarmObserver,
+    ) -> Result<(), FarmError> {
+        let mut done = Vec::new();
+        while self.remaining > 0 {
+            self.dispatch(t)?;
+            let wait = self.next_deadline().map(|d| d.saturating_duration_since(Instant::now()));
+            let wait = wait.unwrap_or(Duration::from_millis(200)).min(Duration::from_millis(200));
+            if let Some(ev) = t.next_event(wait)? {
+                self.handle(ev, t, obs, &mut done);
+                // Drain whatever else is already there, then record in one transaction.
+                while let Some(ev) = t.next_event(Duration::ZERO)? {
+                    self.handle(ev, t, obs, &mut done);
+                    if done.len() >= 256 {
+                        break;
+                    }
+                }
+            }
+            self.expire(t, obs, &mut done);
+            if !done.is_empty() {
+                sink.accept(&done).map_err(FarmError::Sink)?;
+                done.clear();
+            }
+        }
+        Ok(())
+    }
+
+    fn next_deadline(&self) -> Option<Instant> {
+        self.leases.values().map(|l| l.deadline).min()
+    }
+
+    /// Hands pending tasks to workers with free room, least-loaded first.
+    fn dispatch(&mut self, t: &mut dyn Transport) -> Result<(), FarmError> {
+        while !self.pending.is_empty() {
+            let Some((&id, _)) = self
+                .workers
+                .iter()
+                .filter(|(_, w)| w.held.len() < w.capacity)
+                .min_by_key(|(_, w)| w.held.len() * 1000 / w.capacity.max(1))
+            else {
+                return Ok(());
+            };
+            let task = self.pending.pop_front().expect("checked non-empty");
+            let w = self.workers.get_mut(&id).expect("chosen from the map");
+            let deadline = w.last_deadline.max(Instant::now()) + self.settings.task_timeout;
+            match t.send(id, task.clone()) {
+                Ok(()) => {
+                    w.last_deadline = deadline;
+                    w.held.push(task.id);
+                    self.leases.insert(task.id, Lease { worker: id, deadline });
+                }
+                Err(_) => {
+                    self.pending.push_front(task);
+                    self.drop_worker(id);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn handle(
+        &mut self,
+        ev: TransportEvent,
+        t: &mut dyn Transport,
+        obs: &mut dyn FarmObserver,
+        done: &mut Vec<TaskResult>,
+    ) {
+        match ev {
+            TransportEvent::Joined { worker, name, slots } => {
+                let capacity = slots.max(1) * self.settings.window_per_slot.max(1);
+                self.workers.insert(
+                    worker,
+                    WorkerState { capacity, held: Vec::new(), last_deadline: Instant::now() },
+                );
+                obs.membership(true, worker, &name);
+            }
+            TransportEvent::Left { worker, reason } => {
+                obs.membership(false, worker, &reason);
+                self.drop_worker(worker);
+            }
+            TransportEvent::Rejected { reason } => obs.rejected(&reason),
+            TransportEvent::Result { worker, result } => {
+                self.on_result(worker, result, t, obs, done)
+            }
+        }
+    }
+
+    fn on_result(
+        &mut self,
+        worker: WorkerId,
+        result: TaskResult,
+        _t: &mut dyn Transport,
+        obs: &mut dyn FarmObserver,
+        done: &mut Vec<TaskResult>,
+    ) {
+        let leased_here = self.leases.get(&result.id).is_some_and(|l| l.worker == worker);
+        if !leased_here {
+            // Late (lease expired, re-issued elsewhere) or duplicate: the task's
+            // fate is decided by whoever holds the lease now.
+            self.summary.duplicates += 1;
+            return;
+        }
+        self.release(result.id);
+        match &result.outcome {
+            Outcome::Failed { reason } if self.retry_allowed(result.id) => {
+                obs.retrying(result.id, reason);
+                self.requeue(result.id);
+            }
+            _ => self.finish(result, obs, done),
+        }
+    }
+
+    fn retry_allowed(&mut self, id: TaskId) -> bool {
+        let tries = self.tries.entry(id).or_insert(0);
+        *tries += 1;
+        *tries <= self.settings.max_retries
+    }
+
+    fn requeue(&mut self, id: TaskId) {
+        self.summary.reissued += 1;
+        if let Some(task) = self.tasks.get(&id) {
+            self.pending.push_front(task.clone());
+        }
+    }
+
+    fn finish(
+        &mut self,
+        result: TaskResult,
+        obs: &mut dyn FarmObserver,
+        done: &mut Vec<TaskResult>,
+    ) {
+        if self.tasks.remove(&result.id).is_none() {
+            self.summary.duplicates += 1;
+            return;
+        }
+        match result.outcome {
+            Outcome::Ok(_) => self.summary.ok += 1,
+            Outcome::Failed { .. } => self.summary.failed += 1,
+        }
+        self.remaining -= 1;
+        obs.finished(&result);
+        done.push(result);
+    }
+
+    fn release(&mut self, id: TaskId) {
+        if let Some(lease) = self.leases.remove(&id) {
+            if let Some(w) = self.workers.get_mut(&lease.worker) {
+                w.held.retain(|t| *t != id);
+            }
+        }
+    }
+
+    /// Forgets a worker and re-issues what it held.
+    fn drop_worker(&mut self, id: WorkerId) {
+        let Some(w) = self.workers.remove(&id) else { return };
+        for task in w.held.into_iter().rev() {
+            self.leases.remove(&task);
+            *self.losses.entry(task).or_insert(0) += 1;
+            self.requeue(task);
+        }
+    }
+
+    /// Gives up on tasks whose lease expired: failure or retry.
+    fn expire(
+        &mut self,
+        t: &mut dyn Transport,
+        obs: &mut dyn FarmObserver,
+        done: &mut Vec<TaskResult>,
+    ) {
+        let now = Instant::now();
+        let expired: Vec<(TaskId, WorkerId)> = self
+            .leases
+            .iter()
+            .filter(|(_, l)| l.deadline <= now)
+            .map(|(id, l)| (*id, l.worker))
+            .collect();
+        for (id, worker) in expired {
+            if !self.leases.contains_key(&id) {
+                continue;
+            }
+            let secs = self.settings.task_timeout.as_secs_f64();
+            let reason = format!("timeout: no result after {secs} s");
+            self.release(id);
+            // The worker is stuck in this task: replace it; its other tasks go back to the queue.
+            t.abandon(worker, &reason);
+            obs.membership(false, worker, &reason);
+            self.drop_worker(worker);
+            if self.retry_allowed(id) {
+                obs.retrying(id, &reason);
+                self.requeue(id);
+            } else {
+                let failed = TaskResult {
+                    id,
+                    outcome: Outcome::Failed { reason },
+                    wall_s: secs,
+                    host: String::new(),
+                };
+                self.finish(failed, obs, done);
+            }
+        }
+        self.fail_lost_tasks(obs, done);
+    }
+
+    /// Tasks lost with too many workers fail rather than kill the whole farm.
+    fn fail_lost_tasks(&mut self, obs: &mut dyn FarmObserver, done: &mut Vec<TaskResult>) {
+        let limit = self.settings.max_worker_losses;
+        let lost: Vec<TaskId> =
+            self.losses.iter().filter(|(_, n)| **n >= limit).map(|(id, _)| *id).collect();
+        for id in lost {
+            self.losses.remove(&id);
+            if self.leases.contains_key(&id) || !self.tasks.contains_key(&id) {
+                continue;
+            }
+            self.pending.retain(|t| t.id != id);
+            let reason = format!("lost with its worker {limit} times");
+            self.finish(
+                TaskResult {
+                    id,
+                    outcome: Outcome::Failed { reason },
+                    wall_s: 0.0,
+                    host: String::new(),
+                },
+                obs,
+                done,
+            );
+        }
+    }
+}
