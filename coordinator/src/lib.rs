@@ -8,6 +8,7 @@
 
 pub mod design;
 pub mod export;
+pub mod export_parquet;
 pub mod farm;
 pub mod progress;
 pub mod store;

@@ -97,6 +97,10 @@ pub fn open_or_create(study: &Study, path: &Path, resume: bool) -> Result<Store,
     let keep = Keep { scalars: study.outputs.clone(), histories: study.keep_histories };
     let outputs: Vec<String> =
         model.output_names().into_iter().filter(|n| keep.scalar(n)).collect();
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|source| StoreError::Io { path: dir.to_path_buf(), source })?;
+    }
     // Build under a temporary name so a crash never leaves a half-made store.
     let tmp = path.with_extension(format!("tmp-{}", std::process::id()));
     let _ = std::fs::remove_file(&tmp);

@@ -102,6 +102,8 @@ pub fn design(args: DesignArgs) -> Result<()> {
 pub enum ExportFormat {
     /// Comma-separated text.
     Csv,
+    /// Apache Parquet.
+    Parquet,
 }
 
 /// `ceilfarm export`: a store as a table.
@@ -125,6 +127,7 @@ pub fn export(args: ExportArgs) -> Result<()> {
     let store = Store::open(&args.store)?;
     match args.format {
         ExportFormat::Csv => coordinator::export::export_csv(&store, &args.out)?,
+        ExportFormat::Parquet => coordinator::export_parquet::export_parquet(&store, &args.out)?,
     };
     if let Some(dir) = &args.histories {
         coordinator::export::export_histories(&store, dir)?;
