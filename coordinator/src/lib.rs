@@ -6,6 +6,7 @@
 //! [`farm::run_farm`] (through a [`protocol::Transport`]) → store →
 //! [`export`] and the analyses.
 
+pub mod bundle;
 pub mod design;
 pub mod export;
 pub mod export_parquet;

@@ -29,6 +29,9 @@ enum Command {
     Export(commands::sweep::ExportArgs),
     /// Count what a store holds: done, failed, missing.
     Status(commands::sweep::StatusArgs),
+    /// Measured-data bundles: check one.
+    #[command(subcommand)]
+    Bundle(commands::bundle::BundleCommand),
 }
 
 fn init_logging(verbose: u8) {
@@ -51,6 +54,7 @@ fn main() -> std::process::ExitCode {
         Command::Design(a) => commands::sweep::design(a),
         Command::Export(a) => commands::sweep::export(a),
         Command::Status(a) => commands::sweep::status(a),
+        Command::Bundle(c) => commands::bundle::run(c),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

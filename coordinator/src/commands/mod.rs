@@ -1,3 +1,4 @@
 //! One module per subcommand group of the `ceilfarm` binary.
 
+pub mod bundle;
 pub mod sweep;
