@@ -215,6 +215,12 @@ impl Farm<'_> {
                 self.drop_worker(worker);
             }
             TransportEvent::Rejected { reason } => obs.rejected(&reason),
+            TransportEvent::HandedBack { worker, task } => {
+                if self.leases.get(&task).is_some_and(|l| l.worker == worker) {
+                    self.release(task);
+                    self.requeue(task);
+                }
+            }
             TransportEvent::Result { worker, result } => {
                 self.on_result(worker, result, t, obs, done)
             }

@@ -15,3 +15,4 @@ pub mod progress;
 pub mod store;
 pub mod study;
 pub mod sweep;
+pub mod transports;

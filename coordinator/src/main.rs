@@ -29,6 +29,8 @@ enum Command {
     Export(commands::sweep::ExportArgs),
     /// Count what a store holds: done, failed, missing.
     Status(commands::sweep::StatusArgs),
+    /// Serve sweeps as a worker process (iceoryx2 or zenoh transport).
+    Worker(commands::worker::WorkerArgs),
     /// Measured-data bundles: check one.
     #[command(subcommand)]
     Bundle(commands::bundle::BundleCommand),
@@ -55,6 +57,7 @@ fn main() -> std::process::ExitCode {
         Command::Export(a) => commands::sweep::export(a),
         Command::Status(a) => commands::sweep::status(a),
         Command::Bundle(c) => commands::bundle::run(c),
+        Command::Worker(a) => commands::worker::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -20,7 +20,8 @@
 //! scalars = ["y"]            # empty or absent: every scalar the model gives
 //! [farm]
 //! workers = 2
-//! transport = "in-process"
+//! transport = "in-process"  # or "iceoryx2" (processes on one host), "zenoh" (lab machines)
+//! endpoint = "tcp/0.0.0.0:7447"  # zenoh: where the coordinator listens
 //! task_timeout_s = 600
 //! max_retries = 1
 //! ```
@@ -120,6 +121,8 @@ struct RawFarm {
     task_timeout_s: f64,
     #[serde(default = "default_retries")]
     max_retries: i64,
+    #[serde(default)]
+    endpoint: Option<String>,
 }
 
 impl Default for RawFarm {
@@ -129,6 +132,7 @@ impl Default for RawFarm {
             transport: default_transport(),
             task_timeout_s: default_timeout(),
             max_retries: default_retries(),
+            endpoint: None,
         }
     }
 }
@@ -167,11 +171,26 @@ pub enum DesignMethod {
 }
 
 /// Which transport carries tasks to the workers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum TransportKind {
     /// Worker threads in this process.
     InProcess,
+    /// Worker processes on this host, over iceoryx2 shared memory.
+    Iceoryx2,
+    /// Worker processes on lab machines, over zenoh.
+    Zenoh,
+}
+
+impl TransportKind {
+    /// The spelling in study files and on the command line.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            TransportKind::InProcess => "in-process",
+            TransportKind::Iceoryx2 => "iceoryx2",
+            TransportKind::Zenoh => "zenoh",
+        }
+    }
 }
 
 /// One uncertain parameter with its range in physical units.
@@ -223,6 +242,9 @@ pub struct FarmSpec {
     pub task_timeout_s: f64,
     /// How often a failed or timed-out task is tried again.
     pub max_retries: u32,
+    /// Where the coordinator listens (zenoh, e.g. `tcp/0.0.0.0:7447`) or the
+    /// service-name prefix (iceoryx2); `None` takes the transport's default.
+    pub endpoint: Option<String>,
 }
 
 /// A validated study.
@@ -440,6 +462,7 @@ fn check_farm(raw: RawFarm, problems: &mut Vec<String>) -> FarmSpec {
         transport: raw.transport,
         task_timeout_s: raw.task_timeout_s,
         max_retries: raw.max_retries.clamp(0, 100) as u32,
+        endpoint: raw.endpoint,
     }
 }
 

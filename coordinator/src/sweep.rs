@@ -5,7 +5,6 @@ use crate::farm::{run_farm, FarmSettings, FarmSummary, ResultSink};
 use crate::progress::{bar, SweepProgress};
 use crate::store::{Keep, Store, StoreError};
 use crate::study::Study;
-use protocol::in_process::InProcess;
 use protocol::{Task, TaskId, TaskResult, Transport};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -25,6 +24,9 @@ pub enum SweepError {
     /// The farm stopped.
     #[error(transparent)]
     Farm(#[from] crate::farm::FarmError),
+    /// The transport is not available.
+    #[error(transparent)]
+    Transport(#[from] crate::transports::TransportChoiceError),
 }
 
 /// How to run a sweep.
@@ -38,6 +40,10 @@ pub struct SweepOptions {
     pub workers: Option<usize>,
     /// No progress bar.
     pub quiet: bool,
+    /// Transport (overrides the study).
+    pub transport: Option<crate::study::TransportKind>,
+    /// Transport endpoint (overrides the study).
+    pub endpoint: Option<String>,
 }
 
 /// What a sweep did.
@@ -110,11 +116,13 @@ pub fn open_or_create(study: &Study, path: &Path, resume: bool) -> Result<Store,
     Ok(Store::open(path)?)
 }
 
-/// Runs (or resumes) a sweep on the in-process farm.
+/// Runs (or resumes) a sweep on the study's (or the options') transport.
 pub fn run_sweep(study: &Study, opts: &SweepOptions) -> Result<SweepReport, SweepError> {
     let workers = opts.workers.unwrap_or(study.farm.workers).max(1);
-    let transport = InProcess::new(workers, worker::LocalRunner::factory());
-    run_sweep_on(study, opts, Box::new(transport), workers)
+    let kind = opts.transport.unwrap_or(study.farm.transport);
+    let endpoint = opts.endpoint.as_deref().or(study.farm.endpoint.as_deref());
+    let transport = crate::transports::coordinator_transport(kind, workers, endpoint)?;
+    run_sweep_on(study, opts, transport, workers)
 }
 
 /// Runs (or resumes) a sweep on a given transport.

@@ -16,9 +16,14 @@
 //! ```
 
 pub mod codec;
+#[cfg(feature = "iceoryx2")]
+pub mod iceoryx2_transport;
 pub mod in_process;
+pub mod link;
 pub mod messages;
 pub mod transport;
+#[cfg(feature = "zenoh")]
+pub mod zenoh_transport;
 
 pub use messages::*;
 pub use transport::{Transport, TransportError, TransportEvent, WorkerId};

@@ -141,6 +141,13 @@ pub enum FromWorker {
     },
     /// The answer to a task.
     Result(TaskResult),
+    /// A task given back unrun (the worker is stopping); run it elsewhere.
+    HandBack {
+        /// The task.
+        id: TaskId,
+        /// Why.
+        reason: String,
+    },
     /// The worker stops; tasks it held are handed back.
     Goodbye,
 }

@@ -43,6 +43,13 @@ pub enum TransportEvent {
         /// The answer.
         result: TaskResult,
     },
+    /// A worker gave a task back unrun; it goes to another worker, no try counted.
+    HandedBack {
+        /// Who gave it back.
+        worker: WorkerId,
+        /// The task.
+        task: crate::TaskId,
+    },
     /// A message was refused (malformed, wrong version, other study); logged, no state change.
     Rejected {
         /// What was wrong.

@@ -22,6 +22,7 @@
 pub mod model;
 pub mod models;
 pub mod registry;
+pub mod remote;
 pub mod run;
 
 pub use model::{Model, ModelError, ParamSet, RunContext, RunError};

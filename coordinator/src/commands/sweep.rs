@@ -3,7 +3,7 @@
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use coordinator::store::Store;
-use coordinator::study::{format_value, Study};
+use coordinator::study::{format_value, Study, TransportKind};
 use coordinator::sweep::{run_sweep, SweepOptions};
 use std::path::PathBuf;
 
@@ -22,22 +22,19 @@ pub struct RunArgs {
     /// Number of workers (default: the study's, else the machine's cores).
     #[arg(long)]
     pub workers: Option<usize>,
-    /// Transport (only in-process is built into this binary).
-    #[arg(long, value_enum, default_value_t = TransportArg::InProcess)]
-    pub transport: TransportArg,
+    /// Transport (default: the study's [farm] transport, else in-process).
+    #[arg(long, value_enum)]
+    pub transport: Option<TransportKind>,
+    /// Where the coordinator listens (zenoh, e.g. tcp/0.0.0.0:7447) or the
+    /// service prefix (iceoryx2).
+    #[arg(long)]
+    pub endpoint: Option<String>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
     /// Print a JSON summary on stdout.
     #[arg(long)]
     pub json: bool,
-}
-
-/// Transports this binary can use.
-#[derive(Clone, Copy, ValueEnum)]
-pub enum TransportArg {
-    /// Worker threads in this process.
-    InProcess,
 }
 
 /// `ceilfarm run`.
@@ -51,6 +48,8 @@ pub fn run(args: RunArgs) -> Result<()> {
         resume: args.resume,
         workers: args.workers,
         quiet: args.quiet,
+        transport: args.transport,
+        endpoint: args.endpoint,
     };
     let report = run_sweep(&study, &opts)?;
     if args.json {

@@ -1,0 +1,64 @@
+//! `ceilfarm worker`: a stateless worker process for the iceoryx2 or zenoh
+//! transport. It announces itself, runs any model kind, and on SIGTERM or
+//! SIGINT finishes its running tasks, hands queued ones back and exits.
+
+use anyhow::Result;
+use clap::Args;
+use coordinator::study::TransportKind;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// Arguments of `ceilfarm worker`.
+#[derive(Args)]
+pub struct WorkerArgs {
+    /// Transport to serve.
+    #[arg(long, value_enum)]
+    pub transport: TransportKind,
+    /// The coordinator's endpoint (zenoh, e.g. tcp/10.0.0.5:7447) or the
+    /// service prefix (iceoryx2).
+    #[arg(long)]
+    pub connect: Option<String>,
+    /// Tasks run at once (default 1).
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Name announced to the coordinator (default: host-pid).
+    #[arg(long)]
+    pub name: Option<String>,
+}
+
+/// Sets `stop` on SIGTERM or SIGINT.
+fn stop_on_signals(stop: Arc<AtomicBool>) -> Result<()> {
+    let rt = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
+    std::thread::spawn(move || {
+        rt.block_on(async move {
+            use tokio::signal::unix::{signal, SignalKind};
+            let (Ok(mut term), Ok(mut int)) =
+                (signal(SignalKind::terminate()), signal(SignalKind::interrupt()))
+            else {
+                return;
+            };
+            tokio::select! {
+                _ = term.recv() => {},
+                _ = int.recv() => {},
+            }
+            tracing::info!("stop requested: finishing running tasks");
+            stop.store(true, Ordering::Relaxed);
+        })
+    });
+    Ok(())
+}
+
+/// Runs `ceilfarm worker`.
+pub fn run(args: WorkerArgs) -> Result<()> {
+    if args.threads == 0 {
+        anyhow::bail!("--threads 0: expected at least 1");
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    stop_on_signals(stop.clone())?;
+    let name =
+        args.name.unwrap_or_else(|| format!("{}-{}", worker::run::host_name(), std::process::id()));
+    let mut link = coordinator::transports::worker_link(args.transport, args.connect.as_deref())?;
+    let settings = worker::remote::RemoteSettings { name, threads: args.threads };
+    worker::remote::serve_remote(link.as_mut(), &settings, &stop)?;
+    Ok(())
+}

@@ -1,0 +1,477 @@
+//! zenoh transport: a coordinator and its workers across lab machines.
+//!
+//! zenoh has no work queue, so each worker serves a queryable of its own on
+//! `ceilfarm/<sweep>/task/<worker>`; the coordinator sends each task as a
+//! `get` to one worker and the reply carries the result. A query that closes
+//! without a reply means the worker is gone: its tasks are re-issued.
+//! Membership is zenoh liveliness (`ceilfarm/<sweep>/alive/<worker>/<slots>`,
+//! declared after the queryable); joining is a `get` on
+//! `ceilfarm/*/welcome` carrying the worker's Hello, which the coordinator
+//! answers with the model or refuses with a reason (another protocol
+//! version). Keys carry the study hash, so two sweeps on one network never
+//! mix. Multicast scouting is off: workers connect to the coordinator's
+//! endpoint.
+
+use crate::codec;
+use crate::link::{Joined, LinkEvent, Ticket, WorkerLink};
+use crate::transport::{Transport, TransportError, TransportEvent, WorkerId};
+use crate::{FromWorker, ModelSpec, Task, TaskResult, ToWorker, PROTOCOL_VERSION};
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+use zenoh::handlers::{CallbackDrop, FifoChannelHandler};
+use zenoh::liveliness::LivelinessToken;
+use zenoh::query::{ConsolidationMode, Query, QueryTarget, Queryable};
+use zenoh::sample::SampleKind;
+use zenoh::{Session, Wait};
+
+/// Prefix of a reply error that gives a task back unrun.
+const HAND_BACK: &str = "hand-back: ";
+
+/// Longest a single query may stay open (the farm's lease governs sooner).
+const QUERY_TIMEOUT: Duration = Duration::from_secs(30 * 24 * 3600);
+
+fn setup(e: impl std::fmt::Display) -> TransportError {
+    TransportError::Setup(e.to_string())
+}
+
+/// Key prefix of a sweep: the first 16 hex digits of its study hash.
+pub fn sweep_prefix(study_hash: &str) -> String {
+    format!("ceilfarm/{}", &study_hash[..study_hash.len().min(16)])
+}
+
+/// A key-expression-safe worker name.
+pub fn safe_name(name: &str) -> String {
+    name.chars()
+        .map(
+            |c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' { c } else { '_' },
+        )
+        .collect()
+}
+
+/// Opens a zenoh session: the coordinator listens (peer), workers connect (client).
+pub fn open_session(endpoint: &str, listen: bool) -> Result<Session, TransportError> {
+    let mut cfg = zenoh::Config::default();
+    let ep = serde_json_string(endpoint);
+    let set = |cfg: &mut zenoh::Config, k: &str, v: &str| cfg.insert_json5(k, v).map_err(setup);
+    if listen {
+        set(&mut cfg, "mode", "\"peer\"")?;
+        set(&mut cfg, "listen/endpoints", &format!("[{ep}]"))?;
+    } else {
+        set(&mut cfg, "mode", "\"client\"")?;
+        set(&mut cfg, "connect/endpoints", &format!("[{ep}]"))?;
+        // Keep trying while the coordinator is not up yet, or restarts.
+        set(&mut cfg, "connect/timeout_ms", "-1")?;
+        set(&mut cfg, "connect/exit_on_failure", "false")?;
+    }
+    set(&mut cfg, "scouting/multicast/enabled", "false")?;
+    zenoh::open(cfg).wait().map_err(setup)
+}
+
+fn serde_json_string(s: &str) -> String {
+    let escaped: String = s
+        .chars()
+        .flat_map(|c| if c == '"' || c == '\\' { vec!['\\', c] } else { vec![c] })
+        .collect();
+    format!("\"{escaped}\"")
+}
+
+#[derive(Default)]
+struct Members {
+    by_name: HashMap<String, WorkerId>,
+    names: HashMap<WorkerId, String>,
+}
+
+/// The coordinator's end: implements [`Transport`].
+pub struct ZenohCoordinator {
+    endpoint: String,
+    session: Option<Session>,
+    prefix: String,
+    members: Arc<Mutex<Members>>,
+    next_id: Arc<AtomicU64>,
+    events_tx: Sender<TransportEvent>,
+    events_rx: Receiver<TransportEvent>,
+    keep: Vec<Box<dyn std::any::Any + Send>>,
+}
+
+impl ZenohCoordinator {
+    /// A coordinator that will listen on `endpoint` (e.g. `tcp/0.0.0.0:7447`).
+    pub fn new(endpoint: &str) -> Self {
+        let (events_tx, events_rx) = channel();
+        Self {
+            endpoint: endpoint.to_string(),
+            session: None,
+            prefix: String::new(),
+            members: Arc::default(),
+            next_id: Arc::new(AtomicU64::new(0)),
+            events_tx,
+            events_rx,
+            keep: Vec::new(),
+        }
+    }
+
+    fn declare_welcome(
+        &mut self,
+        session: &Session,
+        study_hash: &str,
+        model: &ModelSpec,
+    ) -> Result<(), TransportError> {
+        let welcome = codec::encode(&ToWorker::Welcome {
+            study_hash: study_hash.to_string(),
+            model: model.clone(),
+        })
+        .map_err(setup)?;
+        let events = self.events_tx.clone();
+        let q = session
+            .declare_queryable(format!("{}/welcome", self.prefix))
+            .complete(true)
+            .callback(move |query: Query| {
+                let bytes = query.payload().map(|p| p.to_bytes().into_owned()).unwrap_or_default();
+                match codec::decode::<FromWorker>(&bytes) {
+                    Ok(FromWorker::Hello { .. }) => {
+                        let _ = query.reply(query.key_expr().clone(), welcome.clone()).wait();
+                    }
+                    Ok(_) => {
+                        let _ = query.reply_err("expected a Hello").wait();
+                    }
+                    Err(e) => {
+                        let reason = format!("worker refused: {e}");
+                        let _ = query.reply_err(reason.clone()).wait();
+                        let _ = events.send(TransportEvent::Rejected { reason });
+                    }
+                }
+            })
+            .wait()
+            .map_err(setup)?;
+        self.keep.push(Box::new(q));
+        Ok(())
+    }
+
+    fn declare_membership(&mut self, session: &Session) -> Result<(), TransportError> {
+        let (events, members, next_id) =
+            (self.events_tx.clone(), self.members.clone(), self.next_id.clone());
+        let base = format!("{}/alive/", self.prefix);
+        let sub = session
+            .liveliness()
+            .declare_subscriber(format!("{}/alive/**", self.prefix))
+            .history(true)
+            .callback(move |sample| {
+                let key = sample.key_expr().as_str().to_string();
+                let rest = key.strip_prefix(&base).unwrap_or("");
+                let Some((name, slots)) = rest.split_once('/') else { return };
+                let slots = slots.parse::<usize>().unwrap_or(1).clamp(1, 1024);
+                let mut m = members.lock().expect("members lock");
+                match sample.kind() {
+                    SampleKind::Put => {
+                        if m.by_name.contains_key(name) {
+                            return;
+                        }
+                        let id = WorkerId(next_id.fetch_add(1, Ordering::Relaxed));
+                        m.by_name.insert(name.to_string(), id);
+                        m.names.insert(id, name.to_string());
+                        let _ = events.send(TransportEvent::Joined {
+                            worker: id,
+                            name: name.to_string(),
+                            slots,
+                        });
+                    }
+                    SampleKind::Delete => {
+                        if let Some(id) = m.by_name.remove(name) {
+                            m.names.remove(&id);
+                            let _ = events.send(TransportEvent::Left {
+                                worker: id,
+                                reason: "liveliness lost".into(),
+                            });
+                        }
+                    }
+                }
+            })
+            .wait()
+            .map_err(setup)?;
+        self.keep.push(Box::new(sub));
+        let token: LivelinessToken = session
+            .liveliness()
+            .declare_token(format!("{}/coordinator", self.prefix))
+            .wait()
+            .map_err(setup)?;
+        self.keep.push(Box::new(token));
+        Ok(())
+    }
+}
+
+impl Transport for ZenohCoordinator {
+    fn name(&self) -> &'static str {
+        "zenoh"
+    }
+
+    fn start(&mut self, study_hash: &str, model: &ModelSpec) -> Result<(), TransportError> {
+        let session = open_session(&self.endpoint, true)?;
+        self.prefix = sweep_prefix(study_hash);
+        self.declare_welcome(&session, study_hash, model)?;
+        self.declare_membership(&session)?;
+        self.session = Some(session);
+        Ok(())
+    }
+
+    fn send(&mut self, worker: WorkerId, task: Task) -> Result<(), TransportError> {
+        let session =
+            self.session.as_ref().ok_or_else(|| TransportError::Closed("not started".into()))?;
+        let name = self.members.lock().expect("members lock").names.get(&worker).cloned();
+        let name = name.ok_or(TransportError::UnknownWorker(worker))?;
+        let task_id = task.id;
+        let payload = codec::encode(&ToWorker::Task(task)).map_err(setup)?;
+        let answered = Arc::new(AtomicBool::new(false));
+        let (ev1, ev2, got) = (self.events_tx.clone(), self.events_tx.clone(), answered.clone());
+        let handler = CallbackDrop {
+            callback: move |reply: zenoh::query::Reply| {
+                got.store(true, Ordering::Relaxed);
+                let event = match reply.result() {
+                    Ok(sample) => match codec::decode::<FromWorker>(&sample.payload().to_bytes()) {
+                        Ok(FromWorker::Result(result)) => TransportEvent::Result { worker, result },
+                        Ok(_) => TransportEvent::Left {
+                            worker,
+                            reason: "answered a task with something else".into(),
+                        },
+                        Err(e) => {
+                            let _ = ev1.send(TransportEvent::Rejected {
+                                reason: format!("result from {worker}: {e}"),
+                            });
+                            TransportEvent::Left {
+                                worker,
+                                reason: format!("sent a malformed result: {e}"),
+                            }
+                        }
+                    },
+                    Err(err) => {
+                        let text = String::from_utf8_lossy(&err.payload().to_bytes()).into_owned();
+                        if text.starts_with(HAND_BACK) {
+                            TransportEvent::HandedBack { worker, task: task_id }
+                        } else {
+                            TransportEvent::Left {
+                                worker,
+                                reason: format!("refused the task: {text}"),
+                            }
+                        }
+                    }
+                };
+                let _ = ev1.send(event);
+            },
+            drop: move || {
+                if !answered.load(Ordering::Relaxed) {
+                    let reason = "task query closed without a reply (worker gone)".into();
+                    let _ = ev2.send(TransportEvent::Left { worker, reason });
+                }
+            },
+        };
+        session
+            .get(format!("{}/task/{name}", self.prefix))
+            .payload(payload)
+            .target(QueryTarget::All)
+            .consolidation(ConsolidationMode::None)
+            .timeout(QUERY_TIMEOUT)
+            .with(handler)
+            .wait()
+            .map_err(|e| TransportError::Closed(e.to_string()))
+    }
+
+    fn next_event(&mut self, timeout: Duration) -> Result<Option<TransportEvent>, TransportError> {
+        match self.events_rx.recv_timeout(timeout) {
+            Ok(ev) => Ok(Some(ev)),
+            Err(RecvTimeoutError::Timeout) => Ok(None),
+            Err(RecvTimeoutError::Disconnected) => {
+                Err(TransportError::Closed("event channel".into()))
+            }
+        }
+    }
+
+    fn abandon(&mut self, worker: WorkerId, _reason: &str) {
+        // A remote worker cannot be stopped from here; forget it until it
+        // announces itself again.
+        let mut m = self.members.lock().expect("members lock");
+        if let Some(name) = m.names.remove(&worker) {
+            m.by_name.remove(&name);
+        }
+    }
+
+    fn shutdown(&mut self) {
+        self.keep.clear();
+        if let Some(s) = self.session.take() {
+            let _ = s.close().wait();
+        }
+    }
+}
+
+fn reply_to_query(
+    route: Box<dyn std::any::Any + Send>,
+    result: TaskResult,
+) -> Result<(), TransportError> {
+    let query =
+        route.downcast::<Query>().map_err(|_| TransportError::Closed("foreign route".into()))?;
+    let bytes = codec::encode(&FromWorker::Result(result)).map_err(setup)?;
+    query
+        .reply(query.key_expr().clone(), bytes)
+        .wait()
+        .map_err(|e| TransportError::Closed(e.to_string()))
+}
+
+/// The worker's end: implements [`WorkerLink`].
+pub struct ZenohWorker {
+    session: Session,
+    name: String,
+    joined: Option<String>,
+    queryable: Option<Queryable<FifoChannelHandler<Query>>>,
+    token: Option<LivelinessToken>,
+    coordinator_gone: Arc<AtomicBool>,
+    watch: Option<Box<dyn std::any::Any + Send>>,
+}
+
+impl ZenohWorker {
+    /// Connects to a coordinator's endpoint (e.g. `tcp/10.0.0.5:7447`).
+    pub fn connect(endpoint: &str) -> Result<Self, TransportError> {
+        Ok(Self {
+            session: open_session(endpoint, false)?,
+            name: String::new(),
+            joined: None,
+            queryable: None,
+            token: None,
+            coordinator_gone: Arc::new(AtomicBool::new(false)),
+            watch: None,
+        })
+    }
+}
+
+impl WorkerLink for ZenohWorker {
+    fn join(
+        &mut self,
+        name: &str,
+        threads: u32,
+        timeout: Duration,
+    ) -> Result<Option<Joined>, TransportError> {
+        self.name = format!("{}/{}", safe_name(name), threads.max(1));
+        let hello = codec::encode(&FromWorker::Hello {
+            proto: PROTOCOL_VERSION,
+            name: name.into(),
+            threads,
+        })
+        .map_err(setup)?;
+        let replies = self
+            .session
+            .get("ceilfarm/*/welcome")
+            .payload(hello)
+            .target(QueryTarget::All)
+            .timeout(timeout)
+            .wait()
+            .map_err(|e| TransportError::Closed(e.to_string()))?;
+        while let Ok(reply) = replies.recv() {
+            match reply.result() {
+                Ok(sample) => match codec::decode::<ToWorker>(&sample.payload().to_bytes()) {
+                    Ok(ToWorker::Welcome { study_hash, model }) => {
+                        self.joined = Some(sweep_prefix(&study_hash));
+                        return Ok(Some(Joined { study_hash, model }));
+                    }
+                    Ok(other) => tracing::warn!(?other, "unexpected answer to Hello"),
+                    Err(e) => tracing::warn!(error = %e, "undecodable welcome"),
+                },
+                Err(err) => {
+                    let text = String::from_utf8_lossy(&err.payload().to_bytes()).into_owned();
+                    return Err(TransportError::Setup(format!(
+                        "coordinator refused this worker: {text}"
+                    )));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    fn serve(&mut self) -> Result<(), TransportError> {
+        let prefix =
+            self.joined.clone().ok_or_else(|| TransportError::Closed("not joined".into()))?;
+        let task_name = self.name.split('/').next().unwrap_or("w").to_string();
+        // Queryable first, then liveliness: never be seen before being able to answer.
+        let q = self
+            .session
+            .declare_queryable(format!("{prefix}/task/{task_name}"))
+            .complete(true)
+            .wait()
+            .map_err(setup)?;
+        self.queryable = Some(q);
+        self.coordinator_gone.store(false, Ordering::Relaxed);
+        let gone = self.coordinator_gone.clone();
+        let watch = self
+            .session
+            .liveliness()
+            .declare_subscriber(format!("{prefix}/coordinator"))
+            .history(true)
+            .callback(move |s| {
+                if s.kind() == SampleKind::Delete {
+                    gone.store(true, Ordering::Relaxed);
+                }
+            })
+            .wait()
+            .map_err(setup)?;
+        self.watch = Some(Box::new(watch));
+        let token = self
+            .session
+            .liveliness()
+            .declare_token(format!("{prefix}/alive/{}", self.name))
+            .wait()
+            .map_err(setup)?;
+        self.token = Some(token);
+        Ok(())
+    }
+
+    fn next(&mut self, timeout: Duration) -> Result<LinkEvent, TransportError> {
+        if self.coordinator_gone.load(Ordering::Relaxed) {
+            return Ok(LinkEvent::CoordinatorGone);
+        }
+        let q =
+            self.queryable.as_ref().ok_or_else(|| TransportError::Closed("not serving".into()))?;
+        let Some(query) =
+            q.recv_timeout(timeout).map_err(|e| TransportError::Closed(e.to_string()))?
+        else {
+            return Ok(LinkEvent::Idle);
+        };
+        let bytes = query.payload().map(|p| p.to_bytes().into_owned()).unwrap_or_default();
+        match codec::decode::<ToWorker>(&bytes) {
+            Ok(ToWorker::Task(task)) => {
+                Ok(LinkEvent::Task(Ticket { task, route: Box::new(query) }))
+            }
+            Ok(_) => {
+                let _ = query.reply_err("expected a task").wait();
+                Ok(LinkEvent::Idle)
+            }
+            Err(e) => {
+                tracing::warn!(error = %e, "dropped a malformed task message");
+                let _ = query.reply_err(format!("malformed task: {e}")).wait();
+                Ok(LinkEvent::Idle)
+            }
+        }
+    }
+
+    fn reply(
+        &mut self,
+        route: Box<dyn std::any::Any + Send>,
+        result: TaskResult,
+    ) -> Result<(), TransportError> {
+        reply_to_query(route, result)
+    }
+
+    fn replier(&self) -> Option<crate::link::Replier> {
+        Some(Arc::new(reply_to_query))
+    }
+
+    fn hand_back(&mut self, route: Box<dyn std::any::Any + Send>, reason: &str) {
+        if let Ok(query) = route.downcast::<Query>() {
+            let _ = query.reply_err(format!("{HAND_BACK}{reason}")).wait();
+        }
+    }
+
+    fn leave(&mut self) {
+        self.token = None;
+        self.watch = None;
+        self.queryable = None;
+        self.joined = None;
+    }
+}
