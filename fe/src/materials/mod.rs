@@ -7,6 +7,27 @@
 
 use serde::{Deserialize, Serialize};
 
+mod bouc_wen;
+pub mod driver;
+mod elastic;
+mod gap;
+mod impact;
+mod pinching4;
+mod pinching4_path;
+mod pivot;
+mod steel01;
+mod takeda;
+
+pub use bouc_wen::{BoucWen, BoucWenParams};
+pub use driver::{drive, read_protocol, write_response, DriverError};
+pub use elastic::Elastic;
+pub use gap::Gap;
+pub use impact::{Impact, ImpactParams};
+pub use pinching4::{Backbone, DamageRule, DamageType, Pinching4, PinchingSide};
+pub use pivot::{Pivot, PivotParams};
+pub use steel01::{Steel01, Steel01Params};
+pub use takeda::{Takeda, TakedaParams};
+
 /// Why a material cannot be built or stepped.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MaterialError {
@@ -25,6 +46,49 @@ pub enum MaterialError {
     /// A trial deformation that is not a finite number.
     #[error("non-finite trial deformation {0}")]
     NonFinite(f64),
+    /// An implicit update did not converge.
+    #[error("{material}: local Newton did not converge at deformation {d_mm} mm")]
+    NoConvergence {
+        /// Material type name.
+        material: &'static str,
+        /// Trial deformation (mm).
+        d_mm: f64,
+    },
+}
+
+/// Rejects NaN and infinite trial deformations.
+#[inline]
+pub(crate) fn check_finite(d: f64) -> Result<(), MaterialError> {
+    if d.is_finite() {
+        Ok(())
+    } else {
+        Err(MaterialError::NonFinite(d))
+    }
+}
+
+/// Builds the material a spec describes, in its virgin state.
+pub fn build(spec: &MaterialSpec) -> Result<Box<dyn UniaxialMaterial>, MaterialError> {
+    Ok(match spec {
+        MaterialSpec::Elastic { k } => Box::new(Elastic::new(*k)?),
+        MaterialSpec::Steel01 { fy, e0, b } => {
+            Box::new(Steel01::new(Steel01Params { fy: *fy, e0: *e0, b: *b })?)
+        }
+        MaterialSpec::Gap { k, gap } => Box::new(Gap::new(*k, *gap)?),
+        MaterialSpec::Impact { k1, k2, dy, gap } => {
+            Box::new(Impact::new(ImpactParams { k1: *k1, k2: *k2, dy: *dy, gap: *gap })?)
+        }
+        MaterialSpec::Pinching4(p) => Box::new(Pinching4::new(p)?),
+        MaterialSpec::BoucWen { fy, dy, exponent, ratio } => {
+            Box::new(BoucWen::new(BoucWenParams {
+                fy: *fy,
+                dy: *dy,
+                exponent: *exponent,
+                ratio: *ratio,
+            })?)
+        }
+        MaterialSpec::Takeda(p) => Box::new(Takeda::new(**p)?),
+        MaterialSpec::Pivot(p) => Box::new(Pivot::new(**p)?),
+    })
 }
 
 /// One-dimensional force-deformation law with memory (OpenSees `UniaxialMaterial`).
@@ -87,6 +151,23 @@ pub enum MaterialSpec {
     },
     /// Lowes–Altoontash Pinching4 as OpenSees implements it.
     Pinching4(Box<Pinching4Spec>),
+    /// Wen plastic link (SAP2000 "Plastic (Wen)"): f = r k d + (1 - r) Fy z.
+    BoucWen {
+        /// Yield force (N, > 0).
+        #[serde(rename = "Fy")]
+        fy: f64,
+        /// Yield deformation (mm, > 0); elastic stiffness k = Fy / dy.
+        dy: f64,
+        /// Yield exponent (>= 1; large values give a sharp corner).
+        exponent: f64,
+        /// Post-yield stiffness ratio r (default 0: rigid-plastic friction).
+        #[serde(default)]
+        ratio: f64,
+    },
+    /// Modified Takeda with a bilinear backbone (Otani 1974 unloading rule).
+    Takeda(Box<TakedaParams>),
+    /// Pivot hysteresis (Dowell, Seible & Wilson 1998; SAP2000 Pivot link).
+    Pivot(Box<PivotParams>),
 }
 
 /// Pinching4 parameters, named as in the JSON format.
@@ -140,6 +221,9 @@ impl MaterialSpec {
             MaterialSpec::Gap { .. } => "Gap",
             MaterialSpec::Impact { .. } => "Impact",
             MaterialSpec::Pinching4(_) => "Pinching4",
+            MaterialSpec::BoucWen { .. } => "BoucWen",
+            MaterialSpec::Takeda(_) => "Takeda",
+            MaterialSpec::Pivot(_) => "Pivot",
         }
     }
 
@@ -159,6 +243,9 @@ impl MaterialSpec {
             MaterialSpec::Impact { .. } => 0.0,
             // OpenSees takes the stiffer of the two first backbone slopes.
             MaterialSpec::Pinching4(p) => (p.ePf[0] / p.ePd[0]).max(p.eNf[0] / p.eNd[0]),
+            MaterialSpec::BoucWen { fy, dy, .. } => fy / dy,
+            MaterialSpec::Takeda(p) => p.k0,
+            MaterialSpec::Pivot(p) => p.k0,
         }
     }
 }
@@ -169,9 +256,10 @@ mod tests {
 
     #[test]
     fn parses_format_objects_with_descriptive_keys() {
-        let m: MaterialSpec =
-            serde_json::from_str(r#"{"type": "Steel01", "Fy": 2.0, "E0": 20.0, "b": 0.05, "note": "x"}"#)
-                .unwrap();
+        let m: MaterialSpec = serde_json::from_str(
+            r#"{"type": "Steel01", "Fy": 2.0, "E0": 20.0, "b": 0.05, "note": "x"}"#,
+        )
+        .unwrap();
         assert_eq!(m, MaterialSpec::Steel01 { fy: 2.0, e0: 20.0, b: 0.05 });
         assert_eq!(m.initial_tangent(), 20.0);
     }

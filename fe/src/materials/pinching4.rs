@@ -1,0 +1,513 @@
+//! Pinching4 (Lowes & Altoontash 2003; Lowes, Mitra & Altoontash 2004,
+//! PEER 2003/10) as OpenSees `Pinching4Material` implements it: a
+//! four-point backbone on each side, unload-reload paths with pinching
+//! (rDisp, rForce, uForce), unloading-stiffness, reloading-stiffness and
+//! strength degradation driven by `cycle` or `energy` damage.
+//!
+//! States: 0 virgin elastic, 1 positive backbone, 2 negative backbone,
+//! 3 reloading towards the negative side, 4 reloading towards the positive
+//! side. Every quantity OpenSees changes during a trial is held in the
+//! [`History`] struct, so revert restores the committed state exactly
+//! (OpenSees keeps a few of them outside its trial/commit pairs; with one
+//! trial per commit the two agree). A step of |Δd| <= 1e-12 leaves a zero
+//! deformation rate behind, as OpenSees does without revert.
+//! Units: deformation mm, force N, stiffness N/mm, energy N mm.
+
+use super::pinching4_path::{neg_backbone, pos_backbone, state3_path, state4_path, PathInputs};
+use super::{check_finite, MaterialError, Pinching4Spec, UniaxialMaterial};
+
+/// How damage accumulates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DamageType {
+    /// Damage grows with the number of cycles.
+    Cycle,
+    /// Damage grows with the dissipated energy.
+    Energy,
+}
+
+/// One damage rule: gamma = g1 (umax/uult)^g3 + g2 (E or n)^g4, capped.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DamageRule {
+    /// Coefficients g1..g4.
+    pub g: [f64; 4],
+    /// Upper limit of the damage index.
+    pub limit: f64,
+}
+
+/// Pinching parameters of one side.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PinchingSide {
+    /// Reloading deformation ratio.
+    pub r_disp: f64,
+    /// Reloading force ratio.
+    pub r_force: f64,
+    /// Unloading force ratio.
+    pub u_force: f64,
+}
+
+/// Backbone of one side as OpenSees stores it: the four user points between
+/// a tiny elastic point and a far extrapolation point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Backbone {
+    /// Deformations (mm), points 0..5.
+    pub disp: [f64; 6],
+    /// Forces (N), points 0..5.
+    pub force: [f64; 6],
+}
+
+/// Everything a step changes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct History {
+    state: u8,
+    d: f64,
+    f: f64,
+    k_t: f64,
+    /// Last non-negligible deformation increment (mm).
+    rate: f64,
+    /// Increment of the trial from the committed deformation (mm).
+    dd: f64,
+    low_d: f64,
+    low_f: f64,
+    high_d: f64,
+    high_f: f64,
+    min_demand: f64,
+    max_demand: f64,
+    energy: f64,
+    gamma_k: f64,
+    gamma_d: f64,
+    gamma_f: f64,
+    n_cycle: f64,
+    gamma_k_used: f64,
+    gamma_f_used: f64,
+    k_pos_dmg: f64,
+    k_neg_dmg: f64,
+    u_max_dmg: f64,
+    u_min_dmg: f64,
+    pos_f_dmg: [f64; 6],
+    neg_f_dmg: [f64; 6],
+}
+
+/// The Pinching4 material.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pinching4 {
+    pos: Backbone,
+    neg: Backbone,
+    pinch_pos: PinchingSide,
+    pinch_neg: PinchingSide,
+    k_rule: DamageRule,
+    d_rule: DamageRule,
+    f_rule: DamageRule,
+    damage: DamageType,
+    k_elastic_pos: f64,
+    k_elastic_neg: f64,
+    energy_capacity: f64,
+    virgin: History,
+    committed: History,
+    trial: History,
+}
+
+fn bad(key: &'static str, value: f64, expected: &'static str) -> MaterialError {
+    MaterialError::Parameter { material: "Pinching4", key, value, expected }
+}
+
+/// Checks one side's user backbone: finite, signed and strictly monotone.
+fn check_backbone(
+    d: &[f64; 4],
+    f: &[f64; 4],
+    sign: f64,
+    keys: (&'static str, &'static str),
+) -> Result<(), MaterialError> {
+    let mut last = 0.0;
+    for (&di, &fi) in d.iter().zip(f) {
+        if !(di.is_finite() && sign * di > sign * last) {
+            return Err(bad(
+                keys.0,
+                di,
+                "deformations of the side's sign, strictly growing in size",
+            ));
+        }
+        if !fi.is_finite() || sign * fi <= 0.0 {
+            return Err(bad(keys.1, fi, "finite forces of the side's sign"));
+        }
+        last = di;
+    }
+    Ok(())
+}
+
+/// Backbone areas up to point 4 (N mm), OpenSees' energy capacity basis.
+fn backbone_energy(b: &Backbone) -> f64 {
+    let mut e = 0.5 * b.disp[0] * b.force[0];
+    for j in 0..4 {
+        e += 0.5 * (b.force[j] + b.force[j + 1]) * (b.disp[j + 1] - b.disp[j]);
+    }
+    e
+}
+
+impl Pinching4 {
+    /// Builds the material from its JSON parameters.
+    pub fn new(s: &Pinching4Spec) -> Result<Self, MaterialError> {
+        check_backbone(&s.ePd, &s.ePf, 1.0, ("ePd", "ePf"))?;
+        check_backbone(&s.eNd, &s.eNf, -1.0, ("eNd", "eNf"))?;
+        let scalars = [
+            ("rDispP", s.rDispP),
+            ("rForceP", s.rForceP),
+            ("uForceP", s.uForceP),
+            ("rDispN", s.rDispN),
+            ("rForceN", s.rForceN),
+            ("uForceN", s.uForceN),
+            ("gKLim", s.gKLim),
+            ("gDLim", s.gDLim),
+            ("gFLim", s.gFLim),
+            ("gE", s.gE),
+        ];
+        for (key, v) in scalars {
+            if !v.is_finite() {
+                return Err(bad(key, v, "a finite number"));
+            }
+        }
+        for (key, g) in [("gK", s.gK), ("gD", s.gD), ("gF", s.gF)] {
+            if let Some(v) = g.iter().find(|v| !v.is_finite()) {
+                return Err(bad(key, *v, "finite coefficients"));
+            }
+        }
+        let damage = match s.dmgType.as_str() {
+            "cycle" | "Cycle" | "DamageCycle" | "damageCycle" => DamageType::Cycle,
+            "energy" | "Energy" | "DamageEnergy" | "damageEnergy" => DamageType::Energy,
+            _ => return Err(bad("dmgType", f64::NAN, "\"cycle\" or \"energy\"")),
+        };
+        let (pos, neg) = Self::backbones(s);
+        let k_elastic_pos = pos.force[1] / pos.disp[1];
+        let k_elastic_neg = neg.force[1] / neg.disp[1];
+        let energy_capacity = s.gE * backbone_energy(&pos).max(backbone_energy(&neg));
+        let virgin = History {
+            state: 0,
+            d: 0.0,
+            f: 0.0,
+            k_t: pos.force[0] / pos.disp[0],
+            rate: 0.0,
+            dd: 0.0,
+            low_d: neg.disp[0],
+            low_f: neg.force[0],
+            high_d: pos.disp[0],
+            high_f: pos.force[0],
+            min_demand: neg.disp[1],
+            max_demand: pos.disp[1],
+            energy: 0.0,
+            gamma_k: 0.0,
+            gamma_d: 0.0,
+            gamma_f: 0.0,
+            n_cycle: 0.0,
+            gamma_k_used: 0.0,
+            gamma_f_used: 0.0,
+            k_pos_dmg: k_elastic_pos,
+            k_neg_dmg: k_elastic_neg,
+            u_max_dmg: pos.disp[1],
+            u_min_dmg: neg.disp[1],
+            pos_f_dmg: pos.force,
+            neg_f_dmg: neg.force,
+        };
+        let rule = |g: [f64; 4], limit| DamageRule { g, limit };
+        Ok(Pinching4 {
+            pos,
+            neg,
+            pinch_pos: PinchingSide { r_disp: s.rDispP, r_force: s.rForceP, u_force: s.uForceP },
+            pinch_neg: PinchingSide { r_disp: s.rDispN, r_force: s.rForceN, u_force: s.uForceN },
+            k_rule: rule(s.gK, s.gKLim),
+            d_rule: rule(s.gD, s.gDLim),
+            f_rule: rule(s.gF, s.gFLim),
+            damage,
+            k_elastic_pos,
+            k_elastic_neg,
+            energy_capacity,
+            virgin,
+            committed: virgin,
+            trial: virgin,
+        })
+    }
+
+    /// OpenSees' six-point backbones: a tiny elastic point at 1e-4 of the
+    /// larger first deformation with the stiffer first slope, the four user
+    /// points, and an extrapolation to 1e6 times point 4 (continuing the
+    /// last slope if it rises, else 1.1 times the last force).
+    fn backbones(s: &Pinching4Spec) -> (Backbone, Backbone) {
+        let k_pos = s.ePf[0] / s.ePd[0];
+        let k_neg = s.eNf[0] / s.eNd[0];
+        let k = if k_pos > k_neg { k_pos } else { k_neg };
+        let u = if s.ePd[0] > -s.eNd[0] { 1e-4 * s.ePd[0] } else { -1e-4 * s.eNd[0] };
+        let side = |d: &[f64; 4], f: &[f64; 4], sign: f64| {
+            let k_last = (f[3] - f[2]) / (d[3] - d[2]);
+            let d_far = 1e6 * d[3];
+            let f_far = if k_last > 0.0 { f[3] + k_last * (d_far - d[3]) } else { f[3] * 1.1 };
+            Backbone {
+                disp: [sign * u, d[0], d[1], d[2], d[3], d_far],
+                force: [sign * u * k, f[0], f[1], f[2], f[3], f_far],
+            }
+        };
+        (side(&s.ePd, &s.ePf, 1.0), side(&s.eNd, &s.eNf, -1.0))
+    }
+}
+
+impl Pinching4 {
+    /// Switches the trial state when `u` leaves the current branch or the
+    /// loading direction reverses (OpenSees `getstate`).
+    fn update_branch(&self, t: &mut History, u: f64, du: f64) {
+        let c = &self.committed;
+        let reversal_check = du * c.rate <= 0.0;
+        if !(u < t.low_d || u > t.high_d || reversal_check) {
+            return;
+        }
+        match t.state {
+            0 => {
+                if u > t.high_d {
+                    self.enter_positive_backbone(t, false);
+                } else if u < t.low_d {
+                    self.enter_negative_backbone(t, false);
+                }
+            }
+            1 if du < 0.0 => {
+                if c.d > t.max_demand {
+                    t.max_demand = u - du;
+                }
+                if t.max_demand < t.u_max_dmg {
+                    t.max_demand = t.u_max_dmg;
+                }
+                self.damage_negative_strength(t);
+                if u < t.u_min_dmg {
+                    self.enter_negative_backbone(t, false);
+                } else {
+                    self.enter_state3(t);
+                }
+                t.gamma_k_used = c.gamma_k;
+                t.k_pos_dmg = self.k_elastic_pos * (1.0 - t.gamma_k_used);
+            }
+            2 if du > 0.0 => {
+                if c.d < t.min_demand {
+                    t.min_demand = c.d;
+                }
+                if t.min_demand > t.u_min_dmg {
+                    t.min_demand = t.u_min_dmg;
+                }
+                self.damage_positive_strength(t);
+                if u > t.u_max_dmg {
+                    self.enter_positive_backbone(t, false);
+                } else {
+                    self.enter_state4(t);
+                }
+                t.gamma_k_used = c.gamma_k;
+                t.k_neg_dmg = self.k_elastic_neg * (1.0 - t.gamma_k_used);
+            }
+            3 => {
+                if u < t.low_d {
+                    self.enter_negative_backbone(t, true);
+                } else if u > t.u_max_dmg && du > 0.0 {
+                    self.enter_positive_backbone(t, false);
+                } else if du > 0.0 {
+                    self.damage_positive_strength(t);
+                    self.enter_state4(t);
+                    t.gamma_k_used = c.gamma_k;
+                    t.k_neg_dmg = self.k_elastic_neg * (1.0 - t.gamma_k_used);
+                }
+            }
+            4 => {
+                if u > t.high_d {
+                    self.enter_positive_backbone(t, true);
+                } else if u < t.u_min_dmg && du < 0.0 {
+                    self.enter_negative_backbone(t, true);
+                } else if du < 0.0 {
+                    self.damage_negative_strength(t);
+                    self.enter_state3(t);
+                    t.gamma_k_used = c.gamma_k;
+                    t.k_pos_dmg = self.k_elastic_pos * (1.0 - t.gamma_k_used);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Applies the committed strength damage to the positive backbone.
+    fn damage_positive_strength(&self, t: &mut History) {
+        t.gamma_f_used = self.committed.gamma_f;
+        t.pos_f_dmg = self.pos.force.map(|f| f * (1.0 - t.gamma_f_used));
+    }
+
+    /// Applies the committed strength damage to the negative backbone.
+    fn damage_negative_strength(&self, t: &mut History) {
+        t.gamma_f_used = self.committed.gamma_f;
+        t.neg_f_dmg = self.neg.force.map(|f| f * (1.0 - t.gamma_f_used));
+    }
+
+    /// State 1; its bounds carry damaged forces when entered from state 4.
+    fn enter_positive_backbone(&self, t: &mut History, damaged_bounds: bool) {
+        let f = if damaged_bounds { t.pos_f_dmg } else { self.pos.force };
+        t.state = 1;
+        t.low_d = self.pos.disp[0];
+        t.low_f = f[0];
+        t.high_d = self.pos.disp[5];
+        t.high_f = f[5];
+    }
+
+    /// State 2; its bounds carry damaged forces when entered from state 3 or 4.
+    fn enter_negative_backbone(&self, t: &mut History, damaged: bool) {
+        let f = if damaged { t.neg_f_dmg } else { self.neg.force };
+        t.state = 2;
+        t.low_d = self.neg.disp[5];
+        t.low_f = f[5];
+        t.high_d = self.neg.disp[0];
+        t.high_f = f[0];
+    }
+
+    /// State 3: from the committed point down to the damaged negative target.
+    fn enter_state3(&self, t: &mut History) {
+        let c = &self.committed;
+        t.state = 3;
+        t.low_d = t.u_min_dmg;
+        t.low_f = neg_backbone(&self.neg.disp, &t.neg_f_dmg, t.u_min_dmg).0;
+        t.high_d = c.d;
+        t.high_f = c.f;
+    }
+
+    /// State 4: from the committed point up to the damaged positive target.
+    fn enter_state4(&self, t: &mut History) {
+        let c = &self.committed;
+        t.state = 4;
+        t.low_d = c.d;
+        t.low_f = c.f;
+        t.high_d = t.u_max_dmg;
+        t.high_f = pos_backbone(&self.pos.disp, &t.pos_f_dmg, t.u_max_dmg).0;
+    }
+
+    /// Force and tangent on the trial branch at `u`.
+    fn branch_force(&self, t: &History, u: f64) -> (f64, f64) {
+        match t.state {
+            1 => pos_backbone(&self.pos.disp, &t.pos_f_dmg, u),
+            2 => neg_backbone(&self.neg.disp, &t.neg_f_dmg, u),
+            3 => {
+                let k_unload = if t.high_d < 0.0 { t.k_neg_dmg } else { t.k_pos_dmg };
+                let inputs = PathInputs {
+                    k_unload,
+                    k_elastic_dmg: t.k_neg_dmg,
+                    r_disp: self.pinch_neg.r_disp,
+                    r_force: self.pinch_neg.r_force,
+                    u_force: self.pinch_neg.u_force,
+                    beyond_point3: t.min_demand < self.neg.disp[3],
+                    env_f3: t.neg_f_dmg[3],
+                    env_f4: t.neg_f_dmg[4],
+                };
+                state3_path(t.low_d, t.low_f, t.high_d, t.high_f, &inputs).eval(u)
+            }
+            4 => {
+                let k_unload = if t.low_d < 0.0 { t.k_neg_dmg } else { t.k_pos_dmg };
+                let inputs = PathInputs {
+                    k_unload,
+                    k_elastic_dmg: t.k_pos_dmg,
+                    r_disp: self.pinch_pos.r_disp,
+                    r_force: self.pinch_pos.r_force,
+                    u_force: self.pinch_pos.u_force,
+                    beyond_point3: t.max_demand > self.pos.disp[3],
+                    env_f3: t.pos_f_dmg[3],
+                    env_f4: t.pos_f_dmg[4],
+                };
+                state4_path(t.low_d, t.low_f, t.high_d, t.high_f, &inputs).eval(u)
+            }
+            _ => {
+                let k = self.pos.force[0] / self.pos.disp[0];
+                (k * u, k)
+            }
+        }
+    }
+
+    /// Damage indices of the trial (OpenSees `updateDmg`).
+    fn update_damage(&self, t: &mut History, u: f64, du: f64, elastic_energy: f64) {
+        let u_max_abs = if t.max_demand > -t.min_demand { t.max_demand } else { -t.min_demand };
+        let u_ult_abs =
+            if self.pos.disp[4] > -self.neg.disp[4] { self.pos.disp[4] } else { -self.neg.disp[4] };
+        t.n_cycle = self.committed.n_cycle + du.abs() / (4.0 * u_max_abs);
+        if !(u < u_ult_abs && u > -u_ult_abs) {
+            return;
+        }
+        let k_min_p = pos_backbone(&self.pos.disp, &t.pos_f_dmg, t.max_demand).0 / t.max_demand;
+        let k_min_n = neg_backbone(&self.neg.disp, &t.neg_f_dmg, t.min_demand).0 / t.min_demand;
+        let (rp, rn) = (k_min_p / self.k_elastic_pos, k_min_n / self.k_elastic_neg);
+        let k_min = if rp >= rn { rp } else { rn };
+        let gamma_k_env = if 0.0 > 1.0 - k_min { 0.0 } else { 1.0 - k_min };
+        if t.energy < self.energy_capacity {
+            let ratio = u_max_abs / u_ult_abs;
+            let growth = match self.damage {
+                DamageType::Energy if t.energy > elastic_energy => {
+                    Some((t.energy - elastic_energy) / self.energy_capacity)
+                }
+                DamageType::Energy => None,
+                DamageType::Cycle => Some(t.n_cycle),
+            };
+            let index = |r: &DamageRule| {
+                let base = r.g[0] * ratio.powf(r.g[2]);
+                match growth {
+                    Some(x) => base + r.g[1] * x.powf(r.g[3]),
+                    None => base,
+                }
+            };
+            let (gk, gd, gf) = (index(&self.k_rule), index(&self.d_rule), index(&self.f_rule));
+            let gk = if gk < self.k_rule.limit { gk } else { self.k_rule.limit };
+            t.gamma_k = if gk < gamma_k_env { gk } else { gamma_k_env };
+            t.gamma_d = if gd < self.d_rule.limit { gd } else { self.d_rule.limit };
+            t.gamma_f = if gf < self.f_rule.limit { gf } else { self.f_rule.limit };
+        } else {
+            let lim = self.k_rule.limit;
+            t.gamma_k = if lim < gamma_k_env { lim } else { gamma_k_env };
+            t.gamma_d = self.d_rule.limit;
+            t.gamma_f = self.f_rule.limit;
+        }
+    }
+}
+
+impl UniaxialMaterial for Pinching4 {
+    fn set_trial(&mut self, d: f64) -> Result<(), MaterialError> {
+        check_finite(d)?;
+        let c = self.committed;
+        let mut t = c;
+        t.d = d;
+        let mut du = d - c.d;
+        if du.abs() < 1e-12 {
+            du = 0.0;
+        }
+        t.dd = du;
+        self.update_branch(&mut t, d, du);
+        let (f, k_t) = self.branch_force(&t, d);
+        t.f = f;
+        t.k_t = k_t;
+        t.energy = c.energy + 0.5 * (t.f + c.f) * du;
+        let k_side = if d > 0.0 { t.k_pos_dmg } else { t.k_neg_dmg };
+        let elastic_energy = 0.5 * t.f / k_side * t.f;
+        self.update_damage(&mut t, d, du, elastic_energy);
+        self.trial = t;
+        Ok(())
+    }
+    fn force(&self) -> f64 {
+        self.trial.f
+    }
+    fn tangent(&self) -> f64 {
+        self.trial.k_t
+    }
+    /// The stiffer of the two first backbone slopes, as OpenSees reports it.
+    fn initial_tangent(&self) -> f64 {
+        self.pos.force[0] / self.pos.disp[0]
+    }
+    fn commit(&mut self) {
+        let t = &mut self.trial;
+        t.rate = if t.dd.abs() > 1e-12 { t.dd } else { 0.0 };
+        t.k_pos_dmg = self.k_elastic_pos * (1.0 - t.gamma_k_used);
+        t.k_neg_dmg = self.k_elastic_neg * (1.0 - t.gamma_k_used);
+        t.u_max_dmg = t.max_demand * (1.0 + t.gamma_d);
+        t.u_min_dmg = t.min_demand * (1.0 + t.gamma_d);
+        let keep = 1.0 - t.gamma_f_used;
+        t.pos_f_dmg = self.pos.force.map(|f| f * keep);
+        t.neg_f_dmg = self.neg.force.map(|f| f * keep);
+        self.committed = self.trial;
+    }
+    fn revert(&mut self) {
+        self.trial = self.committed;
+    }
+    fn boxed_clone(&self) -> Box<dyn UniaxialMaterial> {
+        Box::new(Pinching4 { committed: self.virgin, trial: self.virgin, ..self.clone() })
+    }
+}
