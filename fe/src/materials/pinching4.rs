@@ -511,3 +511,115 @@ impl UniaxialMaterial for Pinching4 {
         Box::new(Pinching4 { committed: self.virgin, trial: self.virgin, ..self.clone() })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cjsa(gk: f64, dmg: &str) -> Pinching4 {
+        Pinching4::new(&Pinching4Spec {
+            ePf: [150.0, 651.0, 1001.0, 458.0],
+            ePd: [0.5, 5.5, 10.5, 13.8],
+            eNf: [-200.0, -620.0, -1248.0, -556.0],
+            eNd: [-0.5, -5.0, -12.7, -16.0],
+            rDispP: 0.6,
+            rForceP: 0.2,
+            uForceP: -0.01,
+            rDispN: 0.6,
+            rForceN: 0.2,
+            uForceN: -0.01,
+            gK: [gk, gk, 1.0, 1.0],
+            gKLim: 0.9,
+            gD: [0.0; 4],
+            gDLim: 0.0,
+            gF: [0.0; 4],
+            gFLim: 0.0,
+            gE: 10.0,
+            dmgType: dmg.to_string(),
+        })
+        .unwrap()
+    }
+
+    fn step(m: &mut Pinching4, d: f64) -> f64 {
+        m.set_trial(d).unwrap();
+        m.commit();
+        m.force()
+    }
+
+    #[test]
+    fn virgin_material_uses_the_stiffer_first_slope_then_the_backbone() {
+        let mut m = cjsa(0.0, "cycle");
+        assert_eq!(m.initial_tangent(), 400.0);
+        // OpenSees' tiny elastic point at 5e-5 mm on the 400 N/mm line, then
+        // the secant to (0.5, 150)
+        let k = (150.0 - 0.02) / (0.5 - 5e-5);
+        assert!((step(&mut m, 0.01) - (0.02 + (0.01 - 5e-5) * k)).abs() < 1e-12);
+        assert!((step(&mut m, 3.0) - (150.0 + 2.5 * 501.0 / 5.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn reloading_after_a_cycle_passes_through_the_pinched_point() {
+        let mut m = cjsa(0.0, "cycle");
+        let mut d = 0.0_f64;
+        for target in [6.0_f64, -6.0] {
+            while (d - target).abs() > 1e-9 {
+                d += (target - d).clamp(-0.01, 0.01);
+                step(&mut m, d);
+            }
+        }
+        // reloading towards (6, f(6)); its reloading point sits at
+        // rDisp * 6 = 3.6 mm with force rForce * f(6)
+        let f6 = 651.0 + 0.5 * (1001.0 - 651.0) / 5.0;
+        while d < 3.6 - 1e-9 {
+            d += 0.01;
+            step(&mut m, d);
+        }
+        assert!((m.force() - 0.2 * f6).abs() < 1e-6 * f6, "{}", m.force());
+    }
+
+    #[test]
+    fn unloading_stiffness_degrades_with_cycles() {
+        let mut fresh = cjsa(0.0, "cycle");
+        let mut damaged = cjsa(0.5, "cycle");
+        // 0 -> 6 -> -6 -> 6 mm: both sides loaded past their first point
+        let up: Vec<f64> = (-600..=600).map(|i| 0.01 * i as f64).collect();
+        let mut k = [0.0; 2];
+        for (j, m) in [&mut fresh, &mut damaged].into_iter().enumerate() {
+            let first = up.iter().skip(600);
+            for &d in first.chain(up.iter().rev().skip(1)).chain(up.iter().skip(1)) {
+                step(m, d);
+            }
+            step(m, 5.99);
+            k[j] = m.tangent();
+        }
+        assert!(k[1] < k[0], "damaged {} vs fresh {}", k[1], k[0]);
+    }
+
+    #[test]
+    fn rejects_unknown_damage_type() {
+        let mut s = Pinching4Spec {
+            ePf: [1.0, 2.0, 3.0, 4.0],
+            ePd: [1.0, 2.0, 3.0, 4.0],
+            eNf: [-1.0, -2.0, -3.0, -4.0],
+            eNd: [-1.0, -2.0, -3.0, -4.0],
+            rDispP: 0.5,
+            rForceP: 0.5,
+            uForceP: 0.0,
+            rDispN: 0.5,
+            rForceN: 0.5,
+            uForceN: 0.0,
+            gK: [0.0; 4],
+            gKLim: 0.0,
+            gD: [0.0; 4],
+            gDLim: 0.0,
+            gF: [0.0; 4],
+            gFLim: 0.0,
+            gE: 1.0,
+            dmgType: "fatigue".into(),
+        };
+        assert!(Pinching4::new(&s).is_err());
+        s.dmgType = "energy".into();
+        s.ePd[2] = 1.5;
+        assert!(Pinching4::new(&s).is_err());
+    }
+}
