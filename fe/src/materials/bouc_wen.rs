@@ -174,6 +174,25 @@ mod tests {
         assert!((m.force() - 2.0 * a / (1.0 + a)).abs() < 1e-12);
     }
 
+    /// Monotonic loading from z = 0 has closed forms in x = d / dy:
+    /// n = 1: z = 1 - exp(-x); n = 2: z = tanh(x). Backward Euler with
+    /// steps of dy / 1000 is first-order accurate, error about 1e-4.
+    #[test]
+    fn monotonic_loading_matches_the_closed_forms() {
+        for (n, exact) in [(1.0, (|x: f64| 1.0 - (-x).exp()) as fn(f64) -> f64), (2.0, f64::tanh)] {
+            let mut m = link(n);
+            for i in 1..=3000 {
+                let d = 0.1 * i as f64 / 1000.0;
+                m.set_trial(d).unwrap();
+                m.commit();
+                if i % 500 == 0 {
+                    let z = m.force() / 2.0;
+                    assert!((z - exact(d / 0.1)).abs() < 2e-4, "n {n} d {d}: z {z}");
+                }
+            }
+        }
+    }
+
     #[test]
     fn unloads_with_the_elastic_stiffness() {
         let mut m = link(20.0);

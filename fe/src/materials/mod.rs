@@ -263,4 +263,46 @@ mod tests {
         assert_eq!(m, MaterialSpec::Steel01 { fy: 2.0, e0: 20.0, b: 0.05 });
         assert_eq!(m.initial_tangent(), 20.0);
     }
+
+    #[test]
+    fn parses_the_added_types_with_their_defaults() {
+        let m: MaterialSpec = serde_json::from_str(
+            r#"{"id": 3, "type": "BoucWen", "Fy": 2, "dy": 0.1, "exponent": 2}"#,
+        )
+        .unwrap();
+        assert_eq!(m, MaterialSpec::BoucWen { fy: 2.0, dy: 0.1, exponent: 2.0, ratio: 0.0 });
+        assert_eq!(m.initial_tangent(), 20.0);
+        let t: MaterialSpec =
+            serde_json::from_str(r#"{"type": "Takeda", "k0": 100, "Fy": 50, "r": 0.02}"#).unwrap();
+        assert_eq!(t.type_name(), "Takeda");
+        let MaterialSpec::Takeda(p) = &t else { panic!("{t:?}") };
+        assert_eq!(p.alpha, 0.4);
+        let v: MaterialSpec = serde_json::from_str(
+            r#"{"type": "Pivot", "k0": 100, "Fy": 50, "r": 0.02, "alpha1": 2, "alpha2": 3,
+                "beta1": 0.2, "beta2": 0.4}"#,
+        )
+        .unwrap();
+        let MaterialSpec::Pivot(p) = &v else { panic!("{v:?}") };
+        assert_eq!((p.alpha2, p.beta2, p.eta), (3.0, 0.4, 0.0));
+        for spec in [m, t, v] {
+            let mat = build(&spec).unwrap();
+            assert_eq!(mat.initial_tangent(), spec.initial_tangent());
+        }
+    }
+
+    #[test]
+    fn build_reports_the_offending_key() {
+        let err = build(&MaterialSpec::Impact { k1: 1.0, k2: 1.0, dy: 0.1, gap: -1.0 })
+            .err()
+            .expect("a negative gap is rejected");
+        assert!(matches!(err, MaterialError::Parameter { key: "gap", .. }), "{err}");
+        let s = serde_json::to_string(&MaterialSpec::BoucWen {
+            fy: 1.0,
+            dy: 1.0,
+            exponent: 1.0,
+            ratio: 0.1,
+        })
+        .unwrap();
+        assert!(s.contains(r#""type":"BoucWen""#) && s.contains(r#""Fy":1.0"#), "{s}");
+    }
 }

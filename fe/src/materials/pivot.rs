@@ -90,7 +90,7 @@ impl Pivot {
             }
         }
         for (key, v) in [("beta1", p.beta1), ("beta2", p.beta2)] {
-            if !(v >= 0.0 && v < 1.0) {
+            if !(0.0..1.0).contains(&v) {
                 return bad(key, v, "a pinching factor in [0, 1)");
             }
         }
