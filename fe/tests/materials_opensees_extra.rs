@@ -71,3 +71,10 @@ case!(pinching4_uforce_branches);
 case!(pinching4_cjsa_walk);
 case!(steel01_walk);
 case!(impact_walk);
+
+// The SAP2000 Wen link is OpenSees BoucWen with z in mm (alpha = ratio,
+// ko = Fy / dy, gamma = beta = 0.5 / dy^n, Ao = 1, no degradation), which
+// also integrates by backward Euler with Newton (tolerance set to 1e-14).
+case!(bouc_wen_n1_walk);
+case!(bouc_wen_n2_walk);
+case!(bouc_wen_n10_walk);

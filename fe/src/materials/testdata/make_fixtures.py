@@ -6,7 +6,7 @@ Takes the CJS-A Pinching4 set from the shared fixtures' materials.json, builds t
 protocols below (cyclic, and seeded random walks), drives each material with
 opensees_drive.py, and writes <name>.csv plus materials.json here.
 """
-import json, os, random, subprocess, sys
+import json, os, random, subprocess, sys, tempfile
 TD = os.path.dirname(os.path.abspath(__file__))
 base = json.load(open(sys.argv[1]))['fixtures'][0]['material']
 base.pop('id')
@@ -37,12 +37,16 @@ cases['pinching4_uforce_branches'] = (dict(deg, dmgType='cycle', rForceP=0.1, uF
 cases['pinching4_cjsa_walk'] = (dict(base), walk(3, 8000, 17.0, 0.25))
 cases['steel01_walk'] = ({"type": "Steel01", "Fy": 2.0, "E0": 20.0, "b": 0.05}, walk(4, 4000, 6.0, 0.15))
 cases['impact_walk'] = ({"type": "Impact", "K1": 300.0, "K2": 100.0, "dy": 0.1, "gap": 13.3}, walk(5, 6000, 20.0, 0.2))
+for n, r in [(1.0, 0.0), (2.0, 0.1), (10.0, 0.0)]:
+    cases['bouc_wen_n%d_walk' % n] = ({"type": "BoucWen", "Fy": 2.0, "dy": 0.1, "exponent": n, "ratio": r},
+                                      walk(10 + int(n), 4000, 1.5, 0.05))
+TMP = tempfile.mkdtemp()
 index = {}
 for name, (mat, d) in cases.items():
-    json.dump(mat, open('/tmp/m.json', 'w'))
-    with open('/tmp/p.csv', 'w') as f:
+    json.dump(mat, open(os.path.join(TMP, 'm.json'), 'w'))
+    with open(os.path.join(TMP, 'p.csv'), 'w') as f:
         f.write('step,deformation_mm\n')
         for i, x in enumerate(d): f.write('%d,%r\n' % (i, x))
-    subprocess.run([sys.executable, os.path.join(TD, 'opensees_drive.py'), '/tmp/m.json', '/tmp/p.csv', '%s/%s.csv' % (TD, name)], capture_output=True)
+    subprocess.run([sys.executable, os.path.join(TD, 'opensees_drive.py'), os.path.join(TMP, 'm.json'), os.path.join(TMP, 'p.csv'), '%s/%s.csv' % (TD, name)], capture_output=True)
     index[name] = mat
 json.dump(index, open(TD + '/materials.json', 'w'), indent=1)

@@ -18,6 +18,12 @@ if t == 'Pinching4':
     ops.uniaxialMaterial('Pinching4', 1, *args)
 elif t == 'Steel01':
     ops.uniaxialMaterial('Steel01', 1, mat['Fy'], mat['E0'], mat['b'])
+elif t == 'BoucWen':
+    # SAP2000 Wen link = OpenSees BoucWen with z in mm: alpha = ratio,
+    # ko = Fy/dy, gamma = beta = 0.5/dy^n, Ao = 1, no degradation.
+    n, dy = mat['exponent'], mat['dy']
+    g = 0.5 / dy ** n
+    ops.uniaxialMaterial('BoucWen', 1, mat.get('ratio', 0.0), mat['Fy'] / dy, n, g, g, 1.0, 0.0, 0.0, 0.0, 1e-14, 200)
 elif t == 'Impact':
     ops.uniaxialMaterial('ImpactMaterial', 1, mat['K1'], mat['K2'], -mat['dy'], -mat['gap'])
 ops.testUniaxialMaterial(1)
