@@ -7,7 +7,7 @@ use std::fmt::Debug;
 
 use fe::materials::{
     BoucWen, BoucWenParams, Elastic, Gap, Impact, ImpactParams, Pinching4, Pinching4Spec, Pivot,
-    PivotParams, Steel01, Steel01Params, Takeda, TakedaParams, UniaxialMaterial,
+    PivotSpec, Steel01, Steel01Params, Takeda, TakedaSpec, UniaxialMaterial,
 };
 use proptest::prelude::*;
 
@@ -35,6 +35,13 @@ fn pinching4(dmg: &str, degrade: f64) -> Pinching4 {
     })
     .unwrap()
 }
+
+/// An asymmetric trilinear skeleton with softening on the positive side
+/// (the shape of the seed's connection tests).
+const SKEL_PD: [f64; 3] = [0.5, 5.5, 10.5];
+const SKEL_PF: [f64; 3] = [150.0, 651.0, 458.0];
+const SKEL_ND: [f64; 2] = [-0.8, -9.0];
+const SKEL_NF: [f64; 2] = [-200.0, -620.0];
 
 /// Drives `m` to each target in steps of at most `step`, committing each.
 fn drive_history<M: UniaxialMaterial>(m: &mut M, targets: &[f64], step: f64) {
@@ -155,16 +162,23 @@ proptest! {
 
     #[test]
     fn takeda(t in targets(), off in -0.3f64..0.3, alpha in 0.0f64..0.6) {
-        let m = Takeda::new(TakedaParams { k0: 100.0, fy: 100.0, r: 0.05, alpha }).unwrap();
-        properties(m, &t, off, 4.0, 1e-6);
+        let m = Takeda::new(&TakedaSpec {
+            ePd: SKEL_PD.to_vec(), ePf: SKEL_PF.to_vec(),
+            eNd: SKEL_ND.to_vec(), eNf: SKEL_NF.to_vec(), alpha,
+        })
+        .unwrap();
+        properties(m, &t, off, 12.0, 1e-6);
     }
 
     #[test]
-    fn pivot(t in targets(), off in -0.3f64..0.3, a in 0.5f64..4.0, b in 0.0f64..0.9) {
-        let m = Pivot::new(PivotParams {
-            k0: 100.0, fy: 100.0, r: 0.05, alpha1: a, alpha2: a, beta1: b, beta2: b, eta: 0.0,
+    fn pivot(t in targets(), off in -0.3f64..0.3, a1 in 0.5f64..30.0, a2 in 0.05f64..4.0,
+             b1 in 0.0f64..0.95, b2 in 0.0f64..0.95) {
+        let m = Pivot::new(&PivotSpec {
+            ePd: SKEL_PD.to_vec(), ePf: SKEL_PF.to_vec(),
+            eNd: SKEL_ND.to_vec(), eNf: SKEL_NF.to_vec(),
+            alpha1: a1, alpha2: a2, beta1: b1, beta2: b2, eta: 0.0,
         })
         .unwrap();
-        properties(m, &t, off, 4.0, 1e-6);
+        properties(m, &t, off, 12.0, 1e-6);
     }
 }

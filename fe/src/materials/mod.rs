@@ -15,6 +15,7 @@ mod impact;
 mod pinching4;
 mod pinching4_path;
 mod pivot;
+mod skeleton;
 mod steel01;
 mod takeda;
 
@@ -24,9 +25,10 @@ pub use elastic::Elastic;
 pub use gap::Gap;
 pub use impact::{Impact, ImpactParams};
 pub use pinching4::{Backbone, DamageRule, DamageType, Pinching4, PinchingSide};
-pub use pivot::{Pivot, PivotParams};
+pub use pivot::{Pivot, PivotSpec};
+pub use skeleton::MAX_POINTS as SKELETON_MAX_POINTS;
 pub use steel01::{Steel01, Steel01Params};
-pub use takeda::{Takeda, TakedaParams};
+pub use takeda::{Takeda, TakedaSpec};
 
 /// Why a material cannot be built or stepped.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -66,6 +68,15 @@ pub(crate) fn check_finite(d: f64) -> Result<(), MaterialError> {
     }
 }
 
+/// The stiffer first slope of a skeleton given as JSON arrays (0 if empty).
+fn skeleton_k0(e_pd: &[f64], e_pf: &[f64], e_nd: &[f64], e_nf: &[f64]) -> f64 {
+    let slope = |d: &[f64], f: &[f64]| match (d.first(), f.first()) {
+        (Some(d), Some(f)) => f / d,
+        _ => 0.0,
+    };
+    slope(e_pd, e_pf).max(slope(e_nd, e_nf))
+}
+
 /// Builds the material a spec describes, in its virgin state.
 pub fn build(spec: &MaterialSpec) -> Result<Box<dyn UniaxialMaterial>, MaterialError> {
     Ok(match spec {
@@ -86,8 +97,8 @@ pub fn build(spec: &MaterialSpec) -> Result<Box<dyn UniaxialMaterial>, MaterialE
                 ratio: *ratio,
             })?)
         }
-        MaterialSpec::Takeda(p) => Box::new(Takeda::new(**p)?),
-        MaterialSpec::Pivot(p) => Box::new(Pivot::new(**p)?),
+        MaterialSpec::Takeda(p) => Box::new(Takeda::new(p)?),
+        MaterialSpec::Pivot(p) => Box::new(Pivot::new(p)?),
     })
 }
 
@@ -164,10 +175,10 @@ pub enum MaterialSpec {
         #[serde(default)]
         ratio: f64,
     },
-    /// Modified Takeda with a bilinear backbone (Otani 1974 unloading rule).
-    Takeda(Box<TakedaParams>),
+    /// Takeda on a multi-linear skeleton (Otani 1974 unloading rule).
+    Takeda(Box<TakedaSpec>),
     /// Pivot hysteresis (Dowell, Seible & Wilson 1998; SAP2000 Pivot link).
-    Pivot(Box<PivotParams>),
+    Pivot(Box<PivotSpec>),
 }
 
 /// Pinching4 parameters, named as in the JSON format.
@@ -244,8 +255,8 @@ impl MaterialSpec {
             // OpenSees takes the stiffer of the two first backbone slopes.
             MaterialSpec::Pinching4(p) => (p.ePf[0] / p.ePd[0]).max(p.eNf[0] / p.eNd[0]),
             MaterialSpec::BoucWen { fy, dy, .. } => fy / dy,
-            MaterialSpec::Takeda(p) => p.k0,
-            MaterialSpec::Pivot(p) => p.k0,
+            MaterialSpec::Takeda(p) => skeleton_k0(&p.ePd, &p.ePf, &p.eNd, &p.eNf),
+            MaterialSpec::Pivot(p) => skeleton_k0(&p.ePd, &p.ePf, &p.eNd, &p.eNf),
         }
     }
 }
@@ -272,14 +283,17 @@ mod tests {
         .unwrap();
         assert_eq!(m, MaterialSpec::BoucWen { fy: 2.0, dy: 0.1, exponent: 2.0, ratio: 0.0 });
         assert_eq!(m.initial_tangent(), 20.0);
-        let t: MaterialSpec =
-            serde_json::from_str(r#"{"type": "Takeda", "k0": 100, "Fy": 50, "r": 0.02}"#).unwrap();
+        let t: MaterialSpec = serde_json::from_str(
+            r#"{"type": "Takeda", "ePd": [0.5, 3], "ePf": [50, 60], "eNd": [-1], "eNf": [-40]}"#,
+        )
+        .unwrap();
         assert_eq!(t.type_name(), "Takeda");
         let MaterialSpec::Takeda(p) = &t else { panic!("{t:?}") };
-        assert_eq!(p.alpha, 0.4);
+        assert_eq!(p.alpha, 0.0);
+        assert_eq!(t.initial_tangent(), 100.0);
         let v: MaterialSpec = serde_json::from_str(
-            r#"{"type": "Pivot", "k0": 100, "Fy": 50, "r": 0.02, "alpha1": 2, "alpha2": 3,
-                "beta1": 0.2, "beta2": 0.4}"#,
+            r#"{"type": "Pivot", "ePd": [0.5], "ePf": [50], "eNd": [-1], "eNf": [-40],
+                "alpha1": 2, "alpha2": 3, "beta1": 0.2, "beta2": 0.4}"#,
         )
         .unwrap();
         let MaterialSpec::Pivot(p) = &v else { panic!("{v:?}") };

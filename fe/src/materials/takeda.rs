@@ -1,11 +1,13 @@
-//! Modified Takeda hysteresis with a bilinear backbone (Takeda, Sozen &
-//! Nielsen 1970, J. Struct. Div. ASCE 96(12); unloading rule of Otani 1974,
-//! the "modified Takeda" of Ruaumoko and of Saiidi's simplifications):
+//! Takeda hysteresis on a multi-linear skeleton (Takeda, Sozen & Nielsen
+//! 1970, J. Struct. Div. ASCE 96(12)) with the unloading-stiffness rule of
+//! Otani (1974), the "modified Takeda":
 //!
-//! * backbone: k0 up to (dy, Fy), then r k0, symmetric;
+//! * skeleton: a polyline per side whose first point is the yield point
+//!   (dy, Fy), elastic stiffness k0 = Fy / dy of that side;
 //! * unloading from the positive side with k_u = k0 (dy / d_max)^alpha,
 //!   d_max the largest positive deformation so far (at least dy); the same
-//!   on the negative side with its own d_min;
+//!   on the negative side with its own values. alpha = 0 unloads at k0, the
+//!   simplified Takeda of SAP2000 that the seed used for main-tee splices;
 //! * after the force crosses zero, reloading heads straight for the
 //!   largest previous excursion on the backbone of the other side (its
 //!   yield point if it never yielded), then follows the backbone;
@@ -13,29 +15,31 @@
 //!   where unloading began (inner loops are elastic with k_u).
 //!
 //! If the zero crossing lies beyond the target excursion, the target moves
-//! to one yield deformation past the crossing. Units: mm, N, N/mm.
+//! to one yield deformation past the crossing. The reloading line is assumed
+//! no steeper than the unloading line (true for the usual skeletons).
+//! Units: mm, N, N/mm.
 
 use serde::{Deserialize, Serialize};
 
+use super::skeleton::Skeleton;
 use super::{check_finite, MaterialError, UniaxialMaterial};
 
 /// Takeda parameters, named as in the JSON format.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct TakedaParams {
-    /// Initial stiffness (N/mm, > 0).
-    pub k0: f64,
-    /// Yield force (N, > 0).
-    #[serde(rename = "Fy")]
-    pub fy: f64,
-    /// Post-yield stiffness ratio (0 <= r < 1).
-    pub r: f64,
-    /// Unloading stiffness exponent (0 <= alpha < 1; Otani: 0.4 to 0.5).
-    #[serde(default = "default_alpha")]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[allow(non_snake_case)]
+pub struct TakedaSpec {
+    /// Positive skeleton deformations (mm), 1 to 8 points, the first at yield.
+    pub ePd: Vec<f64>,
+    /// Positive skeleton forces (N).
+    pub ePf: Vec<f64>,
+    /// Negative skeleton deformations (mm, negative numbers).
+    pub eNd: Vec<f64>,
+    /// Negative skeleton forces (N, negative numbers).
+    pub eNf: Vec<f64>,
+    /// Unloading stiffness exponent (0 <= alpha < 1); 0 (default) unloads at
+    /// the initial stiffness as SAP2000's Takeda link, Otani uses 0.4 to 0.5.
+    #[serde(default)]
     pub alpha: f64,
-}
-
-fn default_alpha() -> f64 {
-    0.4
 }
 
 /// The state a step changes.
@@ -44,9 +48,9 @@ struct History {
     d: f64,
     f: f64,
     k_t: f64,
-    /// Largest positive deformation so far (mm, >= dy).
+    /// Largest positive deformation so far (mm, >= the positive yield deformation).
     d_max: f64,
-    /// Largest negative deformation so far (mm, <= -dy).
+    /// Largest negative deformation so far (mm, <= the negative yield deformation).
     d_min: f64,
     /// Zero-force crossing the positive reloading line starts from (mm).
     d0_pos: f64,
@@ -54,69 +58,64 @@ struct History {
     d0_neg: f64,
 }
 
+/// Zero deformation and force, excursions at the yield points.
+fn virgin_history(skeleton: &Skeleton) -> History {
+    History {
+        d: 0.0,
+        f: 0.0,
+        k_t: skeleton.k0(1.0),
+        d_max: skeleton.dy(1.0),
+        d_min: skeleton.dy(-1.0),
+        d0_pos: 0.0,
+        d0_neg: 0.0,
+    }
+}
+
 /// The modified Takeda material.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Takeda {
-    params: TakedaParams,
-    dy: f64,
+    skeleton: Skeleton,
+    alpha: f64,
     committed: History,
     trial: History,
 }
 
 impl Takeda {
     /// A virgin material.
-    pub fn new(params: TakedaParams) -> Result<Self, MaterialError> {
-        let bad = |key, value, expected| {
-            Err(MaterialError::Parameter { material: "Takeda", key, value, expected })
-        };
-        if !(params.k0.is_finite() && params.k0 > 0.0) {
-            return bad("k0", params.k0, "a finite stiffness > 0");
+    pub fn new(spec: &TakedaSpec) -> Result<Self, MaterialError> {
+        let skeleton = Skeleton::new("Takeda", &spec.ePd, &spec.ePf, &spec.eNd, &spec.eNf)?;
+        if !(0.0..1.0).contains(&spec.alpha) {
+            return Err(MaterialError::Parameter {
+                material: "Takeda",
+                key: "alpha",
+                value: spec.alpha,
+                expected: "an exponent in [0, 1)",
+            });
         }
-        if !(params.fy.is_finite() && params.fy > 0.0) {
-            return bad("Fy", params.fy, "a finite yield force > 0");
-        }
-        if !(params.r >= 0.0 && params.r < 1.0) {
-            return bad("r", params.r, "a post-yield ratio in [0, 1)");
-        }
-        if !(params.alpha >= 0.0 && params.alpha < 1.0) {
-            return bad("alpha", params.alpha, "an exponent in [0, 1)");
-        }
-        let dy = params.fy / params.k0;
-        let virgin = History {
-            d: 0.0,
-            f: 0.0,
-            k_t: params.k0,
-            d_max: dy,
-            d_min: -dy,
-            d0_pos: 0.0,
-            d0_neg: 0.0,
-        };
-        Ok(Takeda { params, dy, committed: virgin, trial: virgin })
+        let virgin = virgin_history(&skeleton);
+        Ok(Takeda { skeleton, alpha: spec.alpha, committed: virgin, trial: virgin })
     }
 
-    /// Backbone force and slope at `d`.
-    fn backbone(&self, d: f64) -> (f64, f64) {
-        let p = &self.params;
-        if d.abs() <= self.dy {
-            (p.k0 * d, p.k0)
-        } else {
-            (d.signum() * (p.fy + p.r * p.k0 * (d.abs() - self.dy)), p.r * p.k0)
-        }
+    /// The virgin state of this material.
+    fn virgin(&self) -> History {
+        virgin_history(&self.skeleton)
     }
 
-    /// Unloading stiffness after an excursion to `d_peak` (|d_peak| >= dy).
-    fn k_unload(&self, d_peak: f64) -> f64 {
-        self.params.k0 * (self.dy / d_peak.abs()).powf(self.params.alpha)
+    /// Unloading stiffness after an excursion to `d_peak` on side `s`.
+    fn k_unload(&self, d_peak: f64, s: f64) -> f64 {
+        let sk = &self.skeleton;
+        sk.k0(s) * (sk.dy(s) / d_peak).abs().powf(self.alpha)
     }
 
     /// Reloading from the zero crossing `d0` towards the excursion `d_peak`
-    /// (same sign as the direction `s`), then the backbone.
+    /// (same sign as the direction `s`), then the skeleton.
     fn reload(&self, d: f64, d0: f64, d_peak: f64, s: f64) -> (f64, f64) {
-        let target = if s * (d_peak - d0) < self.dy { d0 + s * self.dy } else { d_peak };
+        let dy = self.skeleton.dy(s).abs();
+        let target = if s * (d_peak - d0) < dy { d0 + s * dy } else { d_peak };
         if s * (d - target) >= 0.0 {
-            return self.backbone(d);
+            return self.skeleton.eval(d);
         }
-        let f_target = self.backbone(target).0;
+        let f_target = self.skeleton.eval(target).0;
         let k = f_target / (target - d0);
         (k * (d - d0), k)
     }
@@ -135,9 +134,9 @@ impl UniaxialMaterial for Takeda {
         let s = dd.signum();
         // Unloading line of the side the committed force is on.
         let (k_u, same_side) = if c.f > 0.0 || (c.f == 0.0 && s > 0.0) {
-            (self.k_unload(c.d_max), s > 0.0)
+            (self.k_unload(c.d_max, 1.0), s > 0.0)
         } else {
-            (self.k_unload(c.d_min), s < 0.0)
+            (self.k_unload(c.d_min, -1.0), s < 0.0)
         };
         let elastic = (c.f + k_u * dd, k_u);
         let (f, k_t) = if same_side {
@@ -179,8 +178,9 @@ impl UniaxialMaterial for Takeda {
     fn tangent(&self) -> f64 {
         self.trial.k_t
     }
+    /// The stiffer of the two elastic slopes.
     fn initial_tangent(&self) -> f64 {
-        self.params.k0
+        self.skeleton.k0(1.0).max(self.skeleton.k0(-1.0))
     }
     fn commit(&mut self) {
         self.committed = self.trial;
@@ -189,7 +189,7 @@ impl UniaxialMaterial for Takeda {
         self.trial = self.committed;
     }
     fn boxed_clone(&self) -> Box<dyn UniaxialMaterial> {
-        Box::new(Takeda::new(self.params).expect("parameters were checked"))
+        Box::new(Takeda { committed: self.virgin(), trial: self.virgin(), ..*self })
     }
 }
 
@@ -197,8 +197,16 @@ impl UniaxialMaterial for Takeda {
 mod tests {
     use super::*;
 
+    /// Bilinear: k0 = 100 N/mm, Fy = 100 N, post-yield 5 N/mm.
     fn takeda() -> Takeda {
-        Takeda::new(TakedaParams { k0: 100.0, fy: 100.0, r: 0.05, alpha: 0.5 }).unwrap()
+        Takeda::new(&TakedaSpec {
+            ePd: vec![1.0, 11.0],
+            ePf: vec![100.0, 150.0],
+            eNd: vec![-1.0, -11.0],
+            eNf: vec![-100.0, -150.0],
+            alpha: 0.5,
+        })
+        .unwrap()
     }
 
     fn step(m: &mut Takeda, d: f64) -> f64 {
