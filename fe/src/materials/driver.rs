@@ -24,6 +24,14 @@ pub enum DriverError {
         /// What went wrong.
         message: String,
     },
+    /// The material JSON could not be parsed.
+    #[error("{path}: not a material object: {message}")]
+    Spec {
+        /// File path.
+        path: String,
+        /// What serde reported.
+        message: String,
+    },
     /// A protocol line is malformed.
     #[error("protocol line {line}: {message}")]
     Protocol {
@@ -123,6 +131,32 @@ pub fn write_response_file(path: &Path, rows: &[(f64, f64, f64)]) -> Result<(), 
     let mut w = std::io::BufWriter::new(file);
     write_response(&mut w, rows).map_err(io)?;
     w.flush().map_err(io)
+}
+
+/// Reads a material JSON object (as in the format's `materials` list; `id`
+/// and unknown keys ignored).
+pub fn read_material_file(path: &Path) -> Result<MaterialSpec, DriverError> {
+    let text = std::fs::read_to_string(path).map_err(|e| DriverError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    serde_json::from_str(&text)
+        .map_err(|e| DriverError::Spec { path: path.display().to_string(), message: e.to_string() })
+}
+
+/// `ceilfarm fe material MATERIAL.json PROTOCOL.csv --out OUT.csv`: drives
+/// the material through the protocol and writes the response; returns the
+/// number of steps written.
+pub fn run_files(
+    material_json: &Path,
+    protocol_csv: &Path,
+    out_csv: &Path,
+) -> Result<usize, DriverError> {
+    let spec = read_material_file(material_json)?;
+    let d = read_protocol_file(protocol_csv)?;
+    let rows = drive(&spec, &d)?;
+    write_response_file(out_csv, &rows)?;
+    Ok(rows.len())
 }
 
 #[cfg(test)]
