@@ -140,7 +140,7 @@ pub enum MaterialSpec {
         /// Post-yield stiffness ratio.
         b: f64,
     },
-    /// Compression-only gap, seed eq. 5.4: f = k (d + gap) when d + gap < 0.
+    /// Compression-only gap, seed eq. 5.4: f = k (d + gap) when d + gap <= 0.
     Gap {
         /// Contact stiffness (N/mm).
         k: f64,
