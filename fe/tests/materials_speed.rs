@@ -41,4 +41,13 @@ fn cost_per_step() {
     time("Steel01 (dyn)", boxed.as_mut(), &d);
     let mut boxed = build(&MaterialSpec::Gap { k: 588.0, gap: 19.0 }).unwrap();
     time("Gap (dyn)", boxed.as_mut(), &d);
+    let wen = MaterialSpec::BoucWen { fy: 2.0, dy: 0.1, exponent: 20.0, ratio: 0.0 };
+    time("BoucWen n = 20 (dyn)", build(&wen).unwrap().as_mut(), &d);
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/materials/testdata");
+    let index: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("materials.json")).unwrap())
+            .unwrap();
+    let p4: MaterialSpec = serde_json::from_value(index["pinching4_cjsa_walk"].clone()).unwrap();
+    let small: Vec<f64> = d.iter().map(|x| x * 0.6).collect();
+    time("Pinching4 CJS-A (dyn)", build(&p4).unwrap().as_mut(), &small);
 }

@@ -106,6 +106,11 @@ pub fn build(spec: &MaterialSpec) -> Result<Box<dyn UniaxialMaterial>, MaterialE
 pub trait UniaxialMaterial: Send {
     /// Sets the trial deformation (mm); committed history is untouched.
     fn set_trial(&mut self, d: f64) -> Result<(), MaterialError>;
+    /// Sets the trial deformation and returns (force N, tangent N/mm).
+    fn trial(&mut self, d: f64) -> Result<(f64, f64), MaterialError> {
+        self.set_trial(d)?;
+        Ok((self.force(), self.tangent()))
+    }
     /// Force (N) at the trial state.
     fn force(&self) -> f64;
     /// Tangent stiffness (N/mm) at the trial state.

@@ -78,7 +78,16 @@ impl UniaxialMaterial for Steel01 {
         }
         let elastic = c.f + self.params.e0 * dd;
         let centre = self.k_hard * d;
-        let f = elastic.min(centre + self.band_n).max(centre - self.band_n);
+        let upper = centre + self.band_n;
+        let lower = centre - self.band_n;
+        let f = if elastic > upper {
+            upper
+        } else if elastic < lower {
+            lower
+        } else {
+            elastic
+        };
+        // OpenSees' test: elastic unless the clipped force moved by >= eps.
         let k_t = if (f - elastic).abs() < f64::EPSILON { self.params.e0 } else { self.k_hard };
         self.trial = History { d, f, k_t };
         Ok(())
