@@ -25,6 +25,7 @@ pub mod likelihood;
 pub mod posterior;
 pub mod prior;
 pub mod simulator;
+pub mod summary;
 
 pub use error::CalibError;
 pub use gaussian::GaussianLikelihood;
@@ -34,3 +35,4 @@ pub use likelihood::{Hyper, Likelihood};
 pub use posterior::{LogDensity, Posterior};
 pub use prior::UniformBox;
 pub use simulator::{FnSimulator, Prediction, Simulator};
+pub use summary::{Marginal, PosteriorSummary};
