@@ -58,3 +58,18 @@ pub trait Likelihood: Send + Sync {
         self.n_sim_params() + self.extra_names().len()
     }
 }
+
+impl<L: Likelihood + ?Sized> Likelihood for &L {
+    fn n_sim_params(&self) -> usize {
+        (**self).n_sim_params()
+    }
+    fn extra_names(&self) -> Vec<String> {
+        (**self).extra_names()
+    }
+    fn n_obs(&self) -> usize {
+        (**self).n_obs()
+    }
+    fn log_likelihood(&self, params: &[f64]) -> Result<f64, CalibError> {
+        (**self).log_likelihood(params)
+    }
+}

@@ -34,5 +34,5 @@ pub use koh::{KohLikelihood, KohSettings};
 pub use likelihood::{Hyper, Likelihood};
 pub use posterior::{LogDensity, Posterior};
 pub use prior::UniformBox;
-pub use simulator::{FnSimulator, Prediction, Simulator};
+pub use simulator::{FnSimulator, Prediction, Simulator, SubsetSimulator};
 pub use summary::{Marginal, PosteriorSummary};

@@ -81,3 +81,54 @@ impl<S: Simulator + ?Sized> Simulator for std::sync::Arc<S> {
         (**self).predict(theta)
     }
 }
+
+impl<S: Simulator + ?Sized> Simulator for &S {
+    fn n_params(&self) -> usize {
+        (**self).n_params()
+    }
+    fn n_outputs(&self) -> usize {
+        (**self).n_outputs()
+    }
+    fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
+        (**self).predict(theta)
+    }
+}
+
+/// A simulator with some parameters held fixed: the free ones, by index
+/// into the full vector, are the only inputs.
+pub struct SubsetSimulator<S> {
+    inner: S,
+    free: Vec<usize>,
+    base: Vec<f64>,
+}
+
+impl<S: Simulator> SubsetSimulator<S> {
+    /// Frees the parameters at `free` of `inner`; the rest take their value in `base` (n_params).
+    pub fn new(inner: S, free: Vec<usize>, base: Vec<f64>) -> Result<Self, CalibError> {
+        CalibError::check_len("full parameter vector", base.len(), inner.n_params())?;
+        if let Some(&i) = free.iter().find(|&&i| i >= base.len()) {
+            return Err(CalibError::invalid("free parameter index", i, "an index below n_params"));
+        }
+        Ok(Self { inner, free, base })
+    }
+
+    /// The full parameter vector for free values `theta`.
+    pub fn full(&self, theta: &[f64]) -> Vec<f64> {
+        let mut full = self.base.clone();
+        self.free.iter().zip(theta).for_each(|(&i, &v)| full[i] = v);
+        full
+    }
+}
+
+impl<S: Simulator> Simulator for SubsetSimulator<S> {
+    fn n_params(&self) -> usize {
+        self.free.len()
+    }
+    fn n_outputs(&self) -> usize {
+        self.inner.n_outputs()
+    }
+    fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
+        CalibError::check_len("free parameters", theta.len(), self.free.len())?;
+        self.inner.predict(&self.full(theta))
+    }
+}
