@@ -24,6 +24,7 @@ pub mod koh;
 pub mod likelihood;
 pub mod posterior;
 pub mod prior;
+pub mod run;
 pub mod simulator;
 pub mod summary;
 
@@ -34,5 +35,6 @@ pub use koh::{KohLikelihood, KohSettings};
 pub use likelihood::{Hyper, Likelihood};
 pub use posterior::{LogDensity, Posterior};
 pub use prior::UniformBox;
+pub use run::{calibrate, CalibrationResult, Diagnostics, Method, RunError, RunSettings};
 pub use simulator::{FnSimulator, Prediction, Simulator, SubsetSimulator};
 pub use summary::{Marginal, PosteriorSummary};
