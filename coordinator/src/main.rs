@@ -14,11 +14,19 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Bayesian calibration of a model against data (posterior.json, samples.csv).
+    Calibrate(commands::calibrate::Args),
+    /// Model selection among parameter subsets (criteria.csv, criteria.json).
+    Select(commands::select::Args),
+}
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
-    let result: anyhow::Result<()> = match cli.command {};
+    let result: anyhow::Result<()> = match cli.command {
+        Command::Calibrate(args) => commands::calibrate::run(args),
+        Command::Select(args) => commands::select::run(args),
+    };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
