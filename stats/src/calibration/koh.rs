@@ -168,6 +168,36 @@ mod tests {
         assert!((a - b).abs() < 1e-9, "{a} vs {b}");
     }
 
+    /// A GP emulator's predictive variance v adds alpha² v to the diagonal.
+    struct Emulator;
+    impl Simulator for Emulator {
+        fn n_params(&self) -> usize {
+            1
+        }
+        fn n_outputs(&self) -> usize {
+            2
+        }
+        fn predict(&self, t: &[f64]) -> Result<crate::calibration::Prediction, CalibError> {
+            Ok(crate::calibration::Prediction {
+                mean: vec![t[0], 2.0 * t[0]],
+                variance: Some(vec![0.01, 0.04]),
+            })
+        }
+    }
+
+    #[test]
+    fn emulator_variance_enters_the_covariance() {
+        let x = vec![vec![0.0], vec![1.0]];
+        let s = KohSettings { alpha: Hyper::Fixed(2.0), ..settings(1e-9) };
+        let koh = KohLikelihood::new(Emulator, x, vec![1.0, 1.5], s).unwrap();
+        // Residuals y − 2 eta = (0.2, −0.1); variances 0.09 + 4 v = (0.13, 0.25).
+        let expected = gaussian_log_density(&[0.2, -0.1], [0.13, 0.25].into_iter());
+        assert!((koh.log_likelihood(&[0.4]).unwrap() - expected).abs() < 1e-9);
+        let g = GaussianLikelihood::new(Emulator, vec![0.4, 0.7], Hyper::Fixed(0.3)).unwrap();
+        let expected = gaussian_log_density(&[0.0, -0.1], [0.1, 0.13].into_iter());
+        assert!((g.log_likelihood(&[0.4]).unwrap() - expected).abs() < 1e-12);
+    }
+
     #[test]
     fn inferred_matches_fixed() {
         let sim = || FnSimulator::new(1, 2, |t: &[f64]| Ok(vec![t[0], -t[0]]));
