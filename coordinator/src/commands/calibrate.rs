@@ -506,3 +506,80 @@ fn predictive<L: Likelihood>(
     }
     Ok(text)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config(name: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs/calibration").join(name)
+    }
+
+    /// The shipped benchmark config reproduces the exact posterior
+    /// (k 1.1924 ± 0.0326, c 0.3023 ± 0.0070, m 1.0073 ± 0.0294).
+    #[test]
+    fn nodisc_config_writes_the_exact_posterior() {
+        let out = tempfile::tempdir().unwrap();
+        run(Args { config: config("oscillator-nodisc.toml"), out: out.path().into() }).unwrap();
+        let text = std::fs::read_to_string(out.path().join("posterior.json")).unwrap();
+        let j: serde_json::Value = serde_json::from_str(&text).unwrap();
+        for (name, mean, sd) in
+            [("k", 1.1924, 0.0326), ("c", 0.3023, 0.0070), ("m", 1.0073, 0.0294)]
+        {
+            let p = &j["parameters"][name];
+            let (m, s) = (p["mean"].as_f64().unwrap(), p["sd"].as_f64().unwrap());
+            assert!((m - mean).abs() < 0.2 * sd && (s / sd - 1.0).abs() < 0.1, "{name}: {m} ± {s}");
+            assert!(p["q05"].as_f64().unwrap() < p["q50"].as_f64().unwrap());
+        }
+        assert_eq!(j["correlation"]["names"][2], "m");
+        assert_eq!(j["method"], "bbvi-fullrank");
+        assert!(
+            j["elbo"].as_f64().unwrap().is_finite()
+                && j["diagnostics"]["psis_k_hat"].as_f64().unwrap() < 0.7
+        );
+        let samples = std::fs::read_to_string(out.path().join("samples.csv")).unwrap();
+        assert_eq!(samples.lines().next(), Some("k,c,m"));
+        assert_eq!(samples.lines().count(), 4001);
+    }
+
+    #[test]
+    fn unknown_key_names_file_and_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.toml");
+        let text = std::fs::read_to_string(config("oscillator-nodisc.toml"))
+            .unwrap()
+            .replace("[noise]", "[noise]\nsigma = 2");
+        std::fs::write(&path, text).unwrap();
+        let e = run(Args { config: path.clone(), out: dir.path().into() }).unwrap_err().to_string();
+        assert!(
+            e.contains("bad.toml") && e.contains("unknown field `sigma`") && e.contains("expected"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn bad_discrepancy_kind_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = config("oscillator-disc.toml");
+        let data = resolve(&path, Path::new("../shared/benchmarks/calib_disc.csv")).unwrap();
+        let text = std::fs::read_to_string(&path)
+            .unwrap()
+            .replace("kind = \"fixed\"", "kind = \"gp\"")
+            .replace("../shared/benchmarks/calib_disc.csv", &data.display().to_string());
+        let copy = dir.path().join("disc.toml");
+        std::fs::write(&copy, text).unwrap();
+        let e = run(Args { config: copy, out: dir.path().into() }).unwrap_err().to_string();
+        assert!(
+            e.contains("discrepancy.kind = \"gp\": expected \"none\", \"fixed\" or \"inferred\""),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn missing_data_file_is_named() {
+        let e = resolve(&config("oscillator-nodisc.toml"), Path::new("nope/none.csv"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("data.file = nope/none.csv"), "{e}");
+    }
+}

@@ -165,3 +165,37 @@ fn criteria_csv(t: &SelectionTable) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Shipped config: (k, c) with m = 1 wins under BIC and MDL; the
+    /// Fisher terms match the benchmark (10.006 and 7.464).
+    #[test]
+    fn oscillator_select_config_picks_k_c() {
+        let out = tempfile::tempdir().unwrap();
+        let config = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../configs/calibration/oscillator-select.toml");
+        run(Args { config, out: out.path().into() }).unwrap();
+        let j: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(out.path().join("criteria.json")).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(j["selected"]["bic"], "k-c");
+        assert_eq!(j["selected"]["mdl"], "k-c");
+        let fi = |i: usize| j["candidates"][i]["log_fisher_integral"].as_f64().unwrap();
+        assert!((fi(0) / 10.006 - 1.0).abs() < 0.02 && (fi(1) / 7.464 - 1.0).abs() < 0.02);
+        let csv = std::fs::read_to_string(out.path().join("criteria.csv")).unwrap();
+        assert!(csv.starts_with("name,free_parameters,neg_log_likelihood,aic,bic,dic,icomp,mdl"));
+        assert_eq!(csv.lines().count(), 8);
+    }
+
+    #[test]
+    fn every_subset_when_no_candidates() {
+        let names: Vec<String> = ["a", "b", "c"].map(String::from).to_vec();
+        let subsets = all_subsets(&names);
+        assert_eq!(subsets.len(), 7);
+        assert_eq!(subsets[0].name, "a-b-c");
+    }
+}
