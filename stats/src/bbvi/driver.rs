@@ -117,7 +117,7 @@ impl BbviSettings {
         if !(self.init_sd.is_finite() && self.init_sd > 0.0) {
             return bad("init_sd", self.init_sd.to_string(), "a finite value > 0");
         }
-        if !(self.tol_rel_change >= 0.0) {
+        if self.tol_rel_change.is_nan() || self.tol_rel_change < 0.0 {
             return bad("tol_rel_change", self.tol_rel_change.to_string(), "a value >= 0");
         }
         Ok(())

@@ -220,19 +220,9 @@ mod tests {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
         let r = reparam_gradient(&Quad, &q, 20_000, &mut rng);
         let s = score_gradient(&Quad, &q, 200_000, true, true, &mut rng);
-        for j in 0..4 {
-            assert!(
-                (r.grad[j] - exact[j]).abs() < 0.03,
-                "reparam {j}: {} vs {}",
-                r.grad[j],
-                exact[j]
-            );
-            assert!(
-                (s.grad[j] - exact[j]).abs() < 0.05,
-                "score {j}: {} vs {}",
-                s.grad[j],
-                exact[j]
-            );
+        for (j, e) in exact.iter().enumerate() {
+            assert!((r.grad[j] - e).abs() < 0.03, "reparam {j}: {} vs {e}", r.grad[j]);
+            assert!((s.grad[j] - e).abs() < 0.05, "score {j}: {} vs {e}", s.grad[j]);
         }
     }
 }

@@ -1,7 +1,8 @@
 //! Kennedy–O'Hagan likelihood (seed eqs. 6.3–6.11, Kennedy & O'Hagan 2001):
 //! y = alpha eta(x, theta) + delta(x) + eps, delta ~ GP(0, k_SE), eps ~ N(0, sigma² I).
-//! The discrepancy is marginalised: y − alpha eta ~ N(0, sigma² I + K_delta
-//! + alpha² diag(v)), v the emulator's predictive variance when there is one.
+//! The discrepancy is marginalised: y − alpha eta ~ N(0, C) with
+//! C = sigma² I + K_delta + alpha² diag(v), v the emulator's predictive
+//! variance when there is one.
 //! With every hyperparameter fixed and no emulator variance the Cholesky
 //! factor is computed once.
 
@@ -22,6 +23,9 @@ pub struct KohSettings {
     /// Discrepancy length scale l (units of x).
     pub disc_length: Hyper,
 }
+
+/// Residual, alpha, noise sd, discrepancy kernel and emulator variance at one point.
+type Parts = (Vec<f64>, f64, f64, SquaredExponential, Option<Vec<f64>>);
 
 /// KOH likelihood with a squared-exponential GP discrepancy.
 pub struct KohLikelihood<S> {
@@ -74,10 +78,7 @@ impl<S: Simulator> KohLikelihood<S> {
     }
 
     /// Residual y − alpha eta(theta) and the hyperparameters, from `params`.
-    fn parts(
-        &self,
-        params: &[f64],
-    ) -> Result<(Vec<f64>, f64, f64, SquaredExponential, Option<Vec<f64>>), CalibError> {
+    fn parts(&self, params: &[f64]) -> Result<Parts, CalibError> {
         CalibError::check_len("parameters", params.len(), self.n_params())?;
         let np = self.sim.n_params();
         let pred = self.sim.predict(&params[..np])?;

@@ -155,6 +155,8 @@ impl AdaptiveMetropolis {
         Ok(McmcRun { chains, acceptance, rhat, ess })
     }
 
+    // `%` rather than `is_multiple_of`: the workspace MSRV is 1.85.
+    #[allow(clippy::manual_is_multiple_of)]
     fn chain<T: LogDensity + ?Sized>(
         &self,
         target: &T,

@@ -229,7 +229,8 @@ pub fn select<S: Simulator>(
     let scores: Vec<CandidateScore> =
         candidates.iter().map(|c| score_candidate(p, c, s)).collect::<Result<_, _>>()?;
     let mut selected = BTreeMap::new();
-    let crits: [(&str, fn(&CandidateScore) -> f64); 5] = [
+    type Criterion = (&'static str, fn(&CandidateScore) -> f64);
+    let crits: [Criterion; 5] = [
         ("aic", |c| c.aic),
         ("bic", |c| c.bic),
         ("dic", |c| c.dic),
