@@ -2,7 +2,8 @@
 //!
 //! Robbins–Monro rho_t = eta (tau + t)^−kappa (kappa in (0.5, 1]); AdaGrad
 //! rho_t = eta / sqrt(sum of squared gradients) as Ranganath et al. use;
-//! Adam (Kingma & Ba 2015) with an optional rate decay lr (1 + t/decay)^−1/2.
+//! Adam (Kingma & Ba 2015) with the rate decaying as lr (1 + t/decay)^−kappa
+//! (kappa in (0.5, 1] meets the Robbins–Monro conditions).
 
 /// How gradients become steps.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,8 +30,10 @@ pub enum StepRule {
         beta1: f64,
         /// Second-moment decay.
         beta2: f64,
-        /// Iterations over which lr halves as (1 + t/decay)^−1/2 (infinite: none).
+        /// Time scale of the decay lr (1 + t/decay)^−kappa (infinite: none).
         decay: f64,
+        /// Decay exponent kappa.
+        kappa: f64,
     },
 }
 
@@ -46,9 +49,9 @@ pub struct StepState {
 }
 
 impl StepRule {
-    /// Adam with lr 0.05 and the usual betas, decaying over 200 iterations.
+    /// Adam with lr 0.05 and the usual betas, decaying as (1 + t/200)^−0.75.
     pub fn adam_default() -> Self {
-        StepRule::Adam { lr: 0.05, beta1: 0.9, beta2: 0.999, decay: 200.0 }
+        StepRule::Adam { lr: 0.05, beta1: 0.9, beta2: 0.999, decay: 200.0, kappa: 0.75 }
     }
 
     /// Ascends: lambda += step(grad); updates `st`.
@@ -69,8 +72,8 @@ impl StepRule {
                     lambda[j] += eta * grad[j] / (1.0 + st.v[j]).sqrt();
                 }
             }
-            StepRule::Adam { lr, beta1, beta2, decay } => {
-                let rate = lr / (1.0 + t / decay).sqrt();
+            StepRule::Adam { lr, beta1, beta2, decay, kappa } => {
+                let rate = lr * (1.0 + t / decay).powf(-kappa);
                 for j in 0..grad.len() {
                     st.m[j] = beta1 * st.m[j] + (1.0 - beta1) * grad[j];
                     st.v[j] = beta2 * st.v[j] + (1.0 - beta2) * grad[j] * grad[j];
