@@ -349,6 +349,23 @@ mod tests {
         assert!((c[(0, 1)] - 0.9).abs() < 0.15, "{c}");
     }
 
+    /// The seed's Algorithm 6.2: score function with a Robbins–Monro sequence.
+    #[test]
+    fn score_function_with_robbins_monro_steps() {
+        let s = BbviSettings {
+            step: crate::bbvi::StepRule::RobbinsMonro { eta: 0.5, tau: 100.0, kappa: 0.7 },
+            ..BbviSettings::score(FamilyKind::FullRank, 6)
+        };
+        let fit = Bbvi::new(&Corr, s).run(&[0.0, 0.0], &mut []).unwrap();
+        let c = fit.q.covariance();
+        assert!(
+            (fit.q.mean()[0] - 1.0).abs() < 0.15 && (fit.q.mean()[1] + 1.0).abs() < 0.15,
+            "{:?}",
+            fit.q.mean()
+        );
+        assert!((c[(0, 0)] - 1.0).abs() < 0.15 && (c[(0, 1)] - 0.9).abs() < 0.15, "{c}");
+    }
+
     #[test]
     fn same_seed_same_answer() {
         let run = || {
