@@ -124,7 +124,7 @@ fn survives_worker_kill(transport: &str) {
     let ep = endpoint(transport);
     let mut workers = Workers::start(transport, &ep, 2);
     let store = dir.path().join("t.db");
-    let mut coord = Command::new(bin())
+    let coord = Command::new(bin())
         .args(run_args(s(&study), s(&store), transport, &ep))
         .stderr(Stdio::piped())
         .spawn()

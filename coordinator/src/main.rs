@@ -34,6 +34,13 @@ enum Command {
     /// Measured-data bundles: check one.
     #[command(subcommand)]
     Bundle(commands::bundle::BundleCommand),
+    /// The ceiling FE model on its own: materials, models, modes.
+    #[command(subcommand)]
+    Fe(commands::fe::FeCommand),
+    /// Bayesian calibration of a model against data (posterior.json, samples.csv).
+    Calibrate(commands::calibrate::Args),
+    /// Model selection among parameter subsets (criteria.csv, criteria.json).
+    Select(commands::select::Args),
 }
 
 fn init_logging(verbose: u8) {
@@ -57,7 +64,10 @@ fn main() -> std::process::ExitCode {
         Command::Export(a) => commands::sweep::export(a),
         Command::Status(a) => commands::sweep::status(a),
         Command::Bundle(c) => commands::bundle::run(c),
+        Command::Fe(c) => commands::fe::run(c),
         Command::Worker(a) => commands::worker::run(a),
+        Command::Calibrate(a) => commands::calibrate::run(a),
+        Command::Select(a) => commands::select::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -2,3 +2,8 @@
 //! regression, Sobol' sensitivity indices, calibration by black-box
 //! variational inference with an MCMC cross-check, and model selection by
 //! minimum description length.
+
+pub mod bbvi;
+pub mod calibration;
+pub mod mcmc;
+pub mod selection;

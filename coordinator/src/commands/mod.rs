@@ -1,5 +1,8 @@
 //! One module per subcommand group of the `ceilfarm` binary.
 
 pub mod bundle;
+pub mod calibrate;
+pub mod fe;
+pub mod select;
 pub mod sweep;
 pub mod worker;

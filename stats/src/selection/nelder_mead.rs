@@ -1,0 +1,117 @@
+//! Nelder–Mead simplex minimisation (Nelder & Mead 1965; the adaptive
+//! coefficients of Gao & Han 2012 for dimension n).
+
+/// Minimum found: point, value, iterations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Minimum {
+    /// Best point.
+    pub x: Vec<f64>,
+    /// f at the best point.
+    pub f: f64,
+    /// Iterations used.
+    pub iters: usize,
+}
+
+/// Minimises `f` from `x0` with initial simplex edge `step`, until the spread
+/// of simplex values is below `f_tol` and its diameter below 1e-7, or `max_iters`.
+pub fn nelder_mead(
+    f: &dyn Fn(&[f64]) -> f64,
+    x0: &[f64],
+    step: f64,
+    f_tol: f64,
+    max_iters: usize,
+) -> Minimum {
+    let n = x0.len();
+    let nf = n as f64;
+    let (alpha, gamma, rho, sigma) = (1.0, 1.0 + 2.0 / nf, 0.75 - 0.5 / nf, 1.0 - 1.0 / nf);
+    let eval = |x: &[f64]| {
+        let v = f(x);
+        if v.is_nan() {
+            f64::INFINITY
+        } else {
+            v
+        }
+    };
+    let mut simplex: Vec<(Vec<f64>, f64)> = (0..=n)
+        .map(|i| {
+            let mut x = x0.to_vec();
+            if i > 0 {
+                x[i - 1] += step;
+            }
+            let v = eval(&x);
+            (x, v)
+        })
+        .collect();
+    let mut iters = 0;
+    while iters < max_iters {
+        simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let diameter = simplex
+            .iter()
+            .flat_map(|p| p.0.iter().zip(&simplex[0].0).map(|(a, b)| (a - b).abs()))
+            .fold(0.0, f64::max);
+        if (simplex[n].1 - simplex[0].1).abs() <= f_tol
+            && diameter <= 1e-7
+            && simplex[0].1.is_finite()
+        {
+            break;
+        }
+        iters += 1;
+        let centroid: Vec<f64> =
+            (0..n).map(|j| simplex[..n].iter().map(|p| p.0[j]).sum::<f64>() / nf).collect();
+        let along = |t: f64| -> Vec<f64> {
+            (0..n).map(|j| centroid[j] + t * (simplex[n].0[j] - centroid[j])).collect()
+        };
+        let xr = along(-alpha);
+        let fr = eval(&xr);
+        if fr < simplex[0].1 {
+            let xe = along(-alpha * gamma);
+            let fe = eval(&xe);
+            simplex[n] = if fe < fr { (xe, fe) } else { (xr, fr) };
+        } else if fr < simplex[n - 1].1 {
+            simplex[n] = (xr, fr);
+        } else {
+            let (xc, fc) = if fr < simplex[n].1 {
+                let x = along(-alpha * rho);
+                let v = eval(&x);
+                (x, v)
+            } else {
+                let x = along(rho);
+                let v = eval(&x);
+                (x, v)
+            };
+            if fc < simplex[n].1.min(fr) {
+                simplex[n] = (xc, fc);
+            } else {
+                let best = simplex[0].0.clone();
+                for p in simplex.iter_mut().skip(1) {
+                    p.0 = (0..n).map(|j| best[j] + sigma * (p.0[j] - best[j])).collect();
+                    p.1 = eval(&p.0);
+                }
+            }
+        }
+    }
+    simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let (x, f) = simplex.swap_remove(0);
+    Minimum { x, f, iters }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rosenbrock_minimum() {
+        let f = |x: &[f64]| (1.0 - x[0]).powi(2) + 100.0 * (x[1] - x[0] * x[0]).powi(2);
+        let m = nelder_mead(&f, &[-1.2, 1.0], 0.5, 1e-14, 5000);
+        assert!((m.x[0] - 1.0).abs() < 1e-4 && (m.x[1] - 1.0).abs() < 1e-4, "{m:?}");
+    }
+
+    #[test]
+    fn quadratic_in_four_dimensions() {
+        let f = |x: &[f64]| {
+            x.iter().enumerate().map(|(i, v)| (i as f64 + 1.0) * (v - 0.5).powi(2)).sum::<f64>()
+        };
+        let m = nelder_mead(&f, &[0.0; 4], 1.0, 1e-16, 5000);
+        assert!(m.x.iter().all(|v| (v - 0.5).abs() < 1e-5), "{m:?}");
+    }
+}
