@@ -3,22 +3,26 @@
 //! Neither publish-subscribe nor request-response in iceoryx2 offers
 //! competing consumers, so the layout is a work queue built by hand, under a
 //! service root `R` (default `ceilfarm`):
-//! - `R/welcome`: the coordinator publishes the sweep (history 1); joining
-//!   workers read it;
+//! - `R/welcome`: the coordinator publishes the sweep (history 1): the sweep
+//!   id in plain bytes, then the Welcome message; joining workers read it;
 //! - `R/<sweep>/result`: every worker publishes its Hello, results,
 //!   hand-backs and Goodbye; the coordinator subscribes;
 //! - `R/<sweep>/task/<worker>`: one per worker, the coordinator publishes.
 //! Overwriting of unread samples is off and buffers exceed the farm's
 //! window, so no task or result is dropped. Liveness is iceoryx2's node
-//! monitoring: the coordinator lists nodes every 100 ms, reports workers
-//! whose process died, and removes their stale resources. Every service
-//! carries the attribute `proto = <version>`: a worker of another version
-//! cannot open it. Messages are bincode with the version header.
+//! monitoring. Waiting sides sleep on event services (`R/<sweep>/result-ready`,
+//! `R/<sweep>/task-ready/<worker>`) that the sending side notifies, so a
+//! round trip costs no polling delay. The coordinator lists nodes every 100 ms, reports workers
+//! whose process died, and removes their stale resources. Messages are
+//! bincode with the version header; a worker of another protocol version (or
+//! pinned to another study) still finds the sweep id, announces itself on
+//! the result channel and leaves, so both sides log the refusal.
 
 use crate::codec;
-use crate::link::{Joined, LinkEvent, Ticket, WorkerLink};
+use crate::link::{study_refusal, JoinRequest, Joined, LinkEvent, Ticket, WorkerLink};
 use crate::transport::{Transport, TransportError, TransportEvent, WorkerId};
 use crate::{FromWorker, ModelSpec, Task, TaskId, TaskResult, ToWorker, PROTOCOL_VERSION};
+use iceoryx2::identifiers::UniqueNodeId;
 use iceoryx2::node::NodeView;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
@@ -26,11 +30,15 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 type Svc = ipc_threadsafe::Service;
 type Pub = Publisher<Svc, [u8], ()>;
 type Sub = Subscriber<Svc, [u8], ()>;
+type Ntf = iceoryx2::port::notifier::Notifier<Svc>;
+type Lst = iceoryx2::port::listener::Listener<Svc>;
+type Keep = Box<dyn std::any::Any + Send>;
 
 /// Default service root.
 pub const DEFAULT_ROOT: &str = "ceilfarm";
@@ -38,6 +46,8 @@ pub const DEFAULT_ROOT: &str = "ceilfarm";
 const TASK_BUFFER: usize = 64;
 /// Results the coordinator may hold unread (above workers x window).
 const RESULT_BUFFER: usize = 1024;
+/// How long a refused worker keeps its announcement readable.
+const REFUSAL_LINGER: Duration = Duration::from_millis(500);
 /// Most worker processes per sweep on one host.
 const MAX_WORKERS: usize = 64;
 
@@ -59,15 +69,6 @@ fn service_name(s: &str) -> Result<ServiceName, TransportError> {
     ServiceName::new(s).map_err(|e| err("service name")(&e))
 }
 
-fn proto_attr() -> (AttributeSpecifier, AttributeVerifier) {
-    let v = PROTOCOL_VERSION.to_string();
-    let spec = AttributeSpecifier::new()
-        .define(&"proto".try_into().expect("key"), &v.as_str().try_into().expect("value"));
-    let verify = AttributeVerifier::new()
-        .require(&"proto".try_into().expect("key"), &v.as_str().try_into().expect("value"));
-    (spec.expect("attribute"), verify.expect("attribute"))
-}
-
 /// Opens (or creates) a byte-slice pub/sub service with the farm's settings.
 fn channel(
     node: &Node<Svc>,
@@ -81,7 +82,6 @@ fn channel(
     iceoryx2::service::port_factory::publish_subscribe::PortFactory<Svc, [u8], ()>,
     TransportError,
 > {
-    let (spec, verify) = proto_attr();
     let builder = node
         .service_builder(&service_name(name)?)
         .publish_subscribe::<[u8]>()
@@ -91,15 +91,44 @@ fn channel(
         .max_publishers(publishers)
         .max_subscribers(subscribers)
         .max_nodes(publishers.max(subscribers) + 2);
-    match builder.open_or_create_with_attributes(&verify) {
-        Ok(s) => Ok(s),
-        Err(e) => {
-            let _ = spec;
-            Err(TransportError::Setup(format!(
-                "iceoryx2 service {name}: {e:?} (another protocol version?)"
-            )))
-        }
-    }
+    builder.open_or_create().map_err(|e| {
+        TransportError::Setup(format!("iceoryx2 service {name}: {e:?} (another ceilfarm build?)"))
+    })
+}
+
+/// Opens (or creates) an event service that wakes a waiting side.
+fn event_service(
+    node: &Node<Svc>,
+    name: &str,
+    notifiers: usize,
+    listeners: usize,
+) -> Result<iceoryx2::service::port_factory::event::PortFactory<Svc>, TransportError> {
+    node.service_builder(&service_name(name)?)
+        .event()
+        .max_notifiers(notifiers)
+        .max_listeners(listeners)
+        .max_nodes(notifiers.max(listeners) + 2)
+        .open_or_create()
+        .map_err(|e| TransportError::Setup(format!("iceoryx2 event service {name}: {e:?}")))
+}
+
+/// A listener on an event service, with the service kept open.
+fn listener(node: &Node<Svc>, name: &str, notifiers: usize) -> Result<(Lst, Keep), TransportError> {
+    let f = event_service(node, name, notifiers, 1)?;
+    let l = f.listener_builder().create().map_err(|e| err("listener")(&e))?;
+    Ok((l, Box::new(f)))
+}
+
+/// A notifier on an event service, with the service kept open.
+fn notifier(node: &Node<Svc>, name: &str, notifiers: usize) -> Result<(Ntf, Keep), TransportError> {
+    let f = event_service(node, name, notifiers, 1)?;
+    let n = f.notifier_builder().create().map_err(|e| err("notifier")(&e))?;
+    Ok((n, Box::new(f)))
+}
+
+/// Sleeps until notified or `timeout`, consuming pending notifications.
+fn nap(l: &Lst, timeout: Duration) {
+    let _ = l.timed_wait(|_| {}, timeout);
 }
 
 fn publisher(
@@ -140,12 +169,17 @@ fn receive(s: &Sub) -> Result<Option<Vec<u8>>, TransportError> {
 
 /// Names of the nodes whose processes are alive; removes dead nodes' resources.
 fn alive_nodes() -> Vec<String> {
+    alive_node_ids().into_iter().map(|(name, _)| name).collect()
+}
+
+/// Names and ids of the live nodes; a restarted process has a new id.
+fn alive_node_ids() -> Vec<(String, UniqueNodeId)> {
     let mut alive = Vec::new();
     let _ = Node::<Svc>::list(Config::global_config(), |state| {
         match state {
             NodeState::Alive(view) => {
                 if let Some(d) = view.details() {
-                    alive.push(d.name().as_str().to_string());
+                    alive.push((d.name().as_str().to_string(), *view.id()));
                 }
             }
             NodeState::Dead(view) => {
@@ -170,6 +204,24 @@ fn sweep_of(hash: &str) -> String {
     hash[..hash.len().min(16)].to_string()
 }
 
+/// A welcome sample: the sweep id's length, the id, then the message.
+fn frame_welcome(sweep: &str, message: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(1 + sweep.len() + message.len());
+    out.push(sweep.len() as u8);
+    out.extend_from_slice(sweep.as_bytes());
+    out.extend_from_slice(message);
+    out
+}
+
+/// Splits a welcome sample into the sweep id and the message.
+fn split_welcome(bytes: &[u8]) -> Option<(String, &[u8])> {
+    let (&len, rest) = bytes.split_first()?;
+    let len = len as usize;
+    let sweep = std::str::from_utf8(rest.get(..len)?).ok()?;
+    let valid = sweep.chars().all(|c| c.is_ascii_alphanumeric());
+    valid.then(|| (sweep.to_string(), &rest[len..]))
+}
+
 /// A worker message on the shared result channel, with its sender.
 #[derive(Debug, Serialize, Deserialize)]
 struct Envelope {
@@ -180,17 +232,20 @@ struct Envelope {
 struct RemoteWorker {
     name: String,
     tasks: Pub,
-    _factory: Box<dyn std::any::Any + Send>,
+    wake: Ntf,
+    _keep: (Keep, Keep),
 }
 
 /// The coordinator's end: implements [`Transport`].
 pub struct IceoryxCoordinator {
     root: String,
     sweep: String,
+    study_hash: String,
     node: Option<Node<Svc>>,
     welcome: Option<(Pub, Box<dyn std::any::Any + Send>)>,
     welcome_bytes: Vec<u8>,
     results: Option<(Sub, Box<dyn std::any::Any + Send>)>,
+    ready: Option<(Lst, Keep)>,
     workers: HashMap<WorkerId, RemoteWorker>,
     by_name: HashMap<String, WorkerId>,
     next_id: u64,
@@ -204,10 +259,12 @@ impl IceoryxCoordinator {
         Self {
             root: root.unwrap_or(DEFAULT_ROOT).to_string(),
             sweep: String::new(),
+            study_hash: String::new(),
             node: None,
             welcome: None,
             welcome_bytes: Vec::new(),
             results: None,
+            ready: None,
             workers: HashMap::new(),
             by_name: HashMap::new(),
             next_id: 0,
@@ -227,7 +284,15 @@ impl IceoryxCoordinator {
         };
         let worker = self.by_name.get(&from).copied();
         match (msg, worker) {
-            (FromWorker::Hello { threads, .. }, _) => self.on_hello(&from, threads)?,
+            (FromWorker::Hello { threads, study, .. }, _) => {
+                match study_refusal(study.as_deref(), &self.study_hash) {
+                    None => self.on_hello(&from, threads)?,
+                    Some(why) => {
+                        let reason = format!("worker {from} refused: {why}");
+                        self.pending.push_back(TransportEvent::Rejected { reason });
+                    }
+                }
+            }
             (FromWorker::Result(result), Some(worker)) => {
                 self.pending.push_back(TransportEvent::Result { worker, result })
             }
@@ -266,12 +331,12 @@ impl IceoryxCoordinator {
             1,
         )?;
         let tasks = publisher(&factory)?;
+        let (wake, wake_keep) =
+            notifier(node, &format!("{}/{}/task-ready/{name}", self.root, self.sweep), 1)?;
         let id = WorkerId(self.next_id);
         self.next_id += 1;
-        self.workers.insert(
-            id,
-            RemoteWorker { name: name.to_string(), tasks, _factory: Box::new(factory) },
-        );
+        let _keep = (Box::new(factory) as Keep, wake_keep);
+        self.workers.insert(id, RemoteWorker { name: name.to_string(), tasks, wake, _keep });
         self.by_name.insert(name.to_string(), id);
         self.pending.push_back(TransportEvent::Joined {
             worker: id,
@@ -316,6 +381,7 @@ impl Transport for IceoryxCoordinator {
 
     fn start(&mut self, study_hash: &str, model: &ModelSpec) -> Result<(), TransportError> {
         self.sweep = sweep_of(study_hash);
+        self.study_hash = study_hash.to_string();
         let node = node(&coordinator_node_name(&self.sweep))?;
         let welcome_factory =
             channel(&node, &format!("{}/welcome", self.root), 1, 1, 1, true, MAX_WORKERS)?;
@@ -325,6 +391,7 @@ impl Transport for IceoryxCoordinator {
             model: model.clone(),
         })
         .map_err(|e| TransportError::Setup(e.to_string()))?;
+        let bytes = frame_welcome(&self.sweep, &bytes);
         send(&welcome, &bytes)?;
         self.welcome_bytes = bytes;
         let results_factory = channel(
@@ -337,6 +404,8 @@ impl Transport for IceoryxCoordinator {
             1,
         )?;
         let results = subscriber(&results_factory, RESULT_BUFFER)?;
+        let ready_name = format!("{}/{}/result-ready", self.root, self.sweep);
+        self.ready = Some(listener(&node, &ready_name, MAX_WORKERS)?);
         self.welcome = Some((welcome, Box::new(welcome_factory)));
         self.results = Some((results, Box::new(results_factory)));
         self.node = Some(node);
@@ -347,7 +416,9 @@ impl Transport for IceoryxCoordinator {
         let w = self.workers.get(&worker).ok_or(TransportError::UnknownWorker(worker))?;
         let bytes = codec::encode(&ToWorker::Task(task))
             .map_err(|e| TransportError::Setup(e.to_string()))?;
-        send(&w.tasks, &bytes)
+        send(&w.tasks, &bytes)?;
+        let _ = w.wake.notify();
+        Ok(())
     }
 
     fn next_event(&mut self, timeout: Duration) -> Result<Option<TransportEvent>, TransportError> {
@@ -367,10 +438,16 @@ impl Transport for IceoryxCoordinator {
                     if !self.pending.is_empty() {
                         continue;
                     }
-                    if Instant::now() >= deadline {
+                    let now = Instant::now();
+                    if now >= deadline {
                         return Ok(None);
                     }
-                    std::thread::sleep(Duration::from_micros(50));
+                    // Wake on a worker's notification; look at liveness at least every 100 ms.
+                    let wait = (deadline - now).min(Duration::from_millis(100));
+                    match &self.ready {
+                        Some((l, _)) => nap(l, wait),
+                        None => std::thread::sleep(wait),
+                    }
                 }
             }
         }
@@ -385,6 +462,7 @@ impl Transport for IceoryxCoordinator {
     fn shutdown(&mut self) {
         self.workers.clear();
         self.results = None;
+        self.ready = None;
         self.welcome = None;
         self.node = None;
     }
@@ -398,9 +476,31 @@ pub struct IceoryxWorker {
     node: Option<Node<Svc>>,
     sweep: String,
     welcome: Option<(Sub, Box<dyn std::any::Any + Send>)>,
-    tasks: Option<(Sub, Box<dyn std::any::Any + Send>)>,
-    results: Option<(Pub, Box<dyn std::any::Any + Send>)>,
+    tasks: Option<(Sub, Lst, Keep, Keep)>,
+    results: Option<Arc<Mutex<ResultPort>>>,
+    coordinator: Option<UniqueNodeId>,
     last_liveness: Instant,
+}
+
+/// A worker's way back: the shared result channel and its wake-up, usable
+/// from the pool threads.
+struct ResultPort {
+    from: String,
+    publisher: Pub,
+    wake: Ntf,
+    _keep: (Keep, Keep),
+}
+
+impl ResultPort {
+    fn publish(&self, msg: FromWorker) -> Result<(), TransportError> {
+        let env = Envelope { from: self.from.clone(), msg };
+        send(
+            &self.publisher,
+            &codec::encode(&env).map_err(|e| TransportError::Setup(e.to_string()))?,
+        )?;
+        let _ = self.wake.notify();
+        Ok(())
+    }
 }
 
 impl IceoryxWorker {
@@ -416,35 +516,33 @@ impl IceoryxWorker {
             welcome: None,
             tasks: None,
             results: None,
+            coordinator: None,
             last_liveness: Instant::now(),
         })
     }
 
-    fn publish(&self, msg: FromWorker) -> Result<(), TransportError> {
-        let (p, _) =
-            self.results.as_ref().ok_or_else(|| TransportError::Closed("not joined".into()))?;
-        let env = Envelope { from: self.name.clone(), msg };
-        send(p, &codec::encode(&env).map_err(|e| TransportError::Setup(e.to_string()))?)
+    fn hello(&self, request: &JoinRequest) -> FromWorker {
+        FromWorker::Hello {
+            proto: PROTOCOL_VERSION,
+            name: self.name.clone(),
+            threads: self.threads,
+            study: request.study.clone(),
+        }
     }
-}
 
-impl WorkerLink for IceoryxWorker {
-    fn join(
-        &mut self,
-        name: &str,
-        threads: u32,
-        timeout: Duration,
-    ) -> Result<Option<Joined>, TransportError> {
-        self.name = name
-            .chars()
-            .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
-            .collect();
+    fn node(&mut self) -> Result<&Node<Svc>, TransportError> {
         if self.node.is_none() {
             self.node = Some(node(&worker_node_name(&self.name))?);
         }
-        let node = self.node.as_ref().expect("just set");
+        Ok(self.node.as_ref().expect("just set"))
+    }
+
+    /// The newest welcome sample, waiting up to `timeout` for one.
+    fn latest_welcome(&mut self, timeout: Duration) -> Result<Option<Vec<u8>>, TransportError> {
         if self.welcome.is_none() {
-            let f = channel(node, &format!("{}/welcome", self.root), 1, 1, 1, true, MAX_WORKERS)?;
+            let root = self.root.clone();
+            let node = self.node()?;
+            let f = channel(node, &format!("{root}/welcome"), 1, 1, 1, true, MAX_WORKERS)?;
             let s = f
                 .subscriber_builder()
                 .buffer_size(1)
@@ -464,46 +562,89 @@ impl WorkerLink for IceoryxWorker {
             }
             std::thread::sleep(Duration::from_millis(10));
         }
-        let Some(bytes) = latest else { return Ok(None) };
-        let (study_hash, model) = match codec::decode::<ToWorker>(&bytes) {
-            Ok(ToWorker::Welcome { study_hash, model }) => (study_hash, model),
-            Ok(_) => return Ok(None),
-            Err(e) => {
-                return Err(TransportError::Setup(format!(
-                    "coordinator speaks another protocol: {e}"
-                )))
-            }
-        };
-        let sweep = sweep_of(&study_hash);
-        if !alive_nodes().contains(&coordinator_node_name(&sweep)) {
-            // A welcome left by a coordinator that is gone.
-            return Ok(None);
-        }
-        self.sweep = sweep;
-        let tf = channel(
-            node,
-            &format!("{}/{}/task/{}", self.root, self.sweep, self.name),
-            TASK_BUFFER,
-            1,
-            0,
-            false,
-            1,
-        )?;
-        let tasks = subscriber(&tf, TASK_BUFFER)?;
-        self.tasks = Some((tasks, Box::new(tf)));
+        Ok(latest)
+    }
+
+    fn open_results(&mut self) -> Result<(), TransportError> {
+        let (root, sweep, from) = (self.root.clone(), self.sweep.clone(), self.name.clone());
+        let node = self.node()?;
         let rf = channel(
             node,
-            &format!("{}/{}/result", self.root, self.sweep),
+            &format!("{root}/{sweep}/result"),
             RESULT_BUFFER,
             MAX_WORKERS,
             0,
             false,
             1,
         )?;
-        let results = publisher(&rf)?;
-        self.results = Some((results, Box::new(rf)));
-        self.threads = threads.max(1);
-        Ok(Some(Joined { study_hash, model }))
+        let publisher = publisher(&rf)?;
+        let (wake, keep) = notifier(node, &format!("{root}/{sweep}/result-ready"), MAX_WORKERS)?;
+        let port = ResultPort { from, publisher, wake, _keep: (Box::new(rf), keep) };
+        self.results = Some(Arc::new(Mutex::new(port)));
+        Ok(())
+    }
+
+    fn open_tasks(&mut self) -> Result<(), TransportError> {
+        let (root, sweep, name) = (self.root.clone(), self.sweep.clone(), self.name.clone());
+        let node = self.node()?;
+        let tf =
+            channel(node, &format!("{root}/{sweep}/task/{name}"), TASK_BUFFER, 1, 0, false, 1)?;
+        let (wake, keep) = listener(node, &format!("{root}/{sweep}/task-ready/{name}"), 1)?;
+        self.tasks = Some((subscriber(&tf, TASK_BUFFER)?, wake, Box::new(tf), keep));
+        Ok(())
+    }
+
+    fn publish(&self, msg: FromWorker) -> Result<(), TransportError> {
+        let port =
+            self.results.as_ref().ok_or_else(|| TransportError::Closed("not joined".into()))?;
+        port.lock().map_err(|_| TransportError::Closed("result port poisoned".into()))?.publish(msg)
+    }
+}
+
+impl WorkerLink for IceoryxWorker {
+    fn join(
+        &mut self,
+        request: &JoinRequest,
+        timeout: Duration,
+    ) -> Result<Option<Joined>, TransportError> {
+        self.name = request
+            .name
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+            .collect();
+        self.threads = request.threads.max(1);
+        let Some(bytes) = self.latest_welcome(timeout)? else { return Ok(None) };
+        let Some((sweep, message)) = split_welcome(&bytes) else {
+            tracing::warn!(len = bytes.len(), "dropped a malformed welcome");
+            return Ok(None);
+        };
+        let wanted = coordinator_node_name(&sweep);
+        let Some((_, id)) = alive_node_ids().into_iter().find(|(name, _)| *name == wanted) else {
+            // A welcome left by a coordinator that is gone.
+            return Ok(None);
+        };
+        self.coordinator = Some(id);
+        self.sweep = sweep;
+        self.open_results()?;
+        let refusal = match codec::decode::<ToWorker>(message) {
+            Ok(ToWorker::Welcome { study_hash, model }) => {
+                match study_refusal(request.study.as_deref(), &study_hash) {
+                    None => {
+                        self.open_tasks()?;
+                        return Ok(Some(Joined { study_hash, model }));
+                    }
+                    Some(why) => why,
+                }
+            }
+            Ok(_) => return Ok(None),
+            Err(e) => format!("the coordinator speaks another protocol: {e}"),
+        };
+        // Announce ourselves anyway, so that the coordinator logs the refusal too.
+        // Samples go with their publisher: give the coordinator time to read it.
+        let _ = self.publish(self.hello(request));
+        std::thread::sleep(REFUSAL_LINGER);
+        self.results = None;
+        Err(TransportError::Setup(format!("coordinator refused this worker: {refusal}")))
     }
 
     fn serve(&mut self) -> Result<(), TransportError> {
@@ -512,13 +653,14 @@ impl WorkerLink for IceoryxWorker {
             proto: PROTOCOL_VERSION,
             name: self.name.clone(),
             threads: self.threads,
+            study: None,
         })
     }
 
     fn next(&mut self, timeout: Duration) -> Result<LinkEvent, TransportError> {
         let deadline = Instant::now() + timeout;
         loop {
-            let (sub, _) =
+            let (sub, wake, _, _) =
                 self.tasks.as_ref().ok_or_else(|| TransportError::Closed("not serving".into()))?;
             if let Some(bytes) = receive(sub)? {
                 match codec::decode::<ToWorker>(&bytes) {
@@ -533,14 +675,18 @@ impl WorkerLink for IceoryxWorker {
             }
             if self.last_liveness.elapsed() > Duration::from_millis(200) {
                 self.last_liveness = Instant::now();
-                if !alive_nodes().contains(&coordinator_node_name(&self.sweep)) {
+                // Gone, or restarted under the same name (a new node id).
+                let alive = alive_node_ids();
+                if !alive.iter().any(|(_, id)| Some(*id) == self.coordinator) {
                     return Ok(LinkEvent::CoordinatorGone);
                 }
             }
-            if Instant::now() >= deadline {
+            let now = Instant::now();
+            if now >= deadline {
                 return Ok(LinkEvent::Idle);
             }
-            std::thread::sleep(Duration::from_micros(50));
+            // Wake on the coordinator's notification; check on it every 200 ms.
+            nap(wake, (deadline - now).min(Duration::from_millis(200)));
         }
     }
 
@@ -550,6 +696,15 @@ impl WorkerLink for IceoryxWorker {
         result: TaskResult,
     ) -> Result<(), TransportError> {
         self.publish(FromWorker::Result(result))
+    }
+
+    fn replier(&self) -> Option<crate::link::Replier> {
+        let port = self.results.clone()?;
+        Some(Arc::new(move |_route, result| {
+            let port =
+                port.lock().map_err(|_| TransportError::Closed("result port poisoned".into()))?;
+            port.publish(FromWorker::Result(result))
+        }))
     }
 
     fn hand_back(&mut self, route: Box<dyn std::any::Any + Send>, reason: &str) {
@@ -564,3 +719,7 @@ impl WorkerLink for IceoryxWorker {
         self.results = None;
     }
 }
+
+#[cfg(test)]
+#[path = "iceoryx2_refusals_tests.rs"]
+mod refusals_tests;

@@ -21,6 +21,7 @@ pub mod iceoryx2_transport;
 pub mod in_process;
 pub mod link;
 pub mod messages;
+pub mod raw_f64;
 pub mod transport;
 #[cfg(feature = "zenoh")]
 pub mod zenoh_transport;

@@ -5,6 +5,27 @@ use crate::transport::TransportError;
 use crate::{ModelSpec, Task, TaskResult};
 use std::time::Duration;
 
+/// Who a joining worker is and what it agrees to serve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JoinRequest {
+    /// Worker's name (unique per process).
+    pub name: String,
+    /// How many tasks it runs at once.
+    pub threads: u32,
+    /// Serve only the study whose hash starts with this (any study if `None`).
+    pub study: Option<String>,
+}
+
+/// Why a worker pinned to `pin` may not serve the study `study_hash`, if so.
+pub fn study_refusal(pin: Option<&str>, study_hash: &str) -> Option<String> {
+    let pin = pin?;
+    if !pin.is_empty() && study_hash.starts_with(pin) {
+        return None;
+    }
+    let short = &study_hash[..study_hash.len().min(16)];
+    Some(format!("the coordinator runs study {short}, the worker serves only study {pin}"))
+}
+
 /// What a coordinator told a joining worker.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Joined {
@@ -39,11 +60,11 @@ pub type Replier = std::sync::Arc<
 
 /// The worker's end of a transport.
 pub trait WorkerLink {
-    /// Waits (up to `timeout`) for a sweep to join, announcing `name` and `threads`.
+    /// Waits (up to `timeout`) for a sweep to join; a refusal is an error
+    /// carrying the coordinator's reason.
     fn join(
         &mut self,
-        name: &str,
-        threads: u32,
+        request: &JoinRequest,
         timeout: Duration,
     ) -> Result<Option<Joined>, TransportError>;
     /// Starts taking tasks for the joined sweep (declares itself alive).
@@ -65,4 +86,25 @@ pub trait WorkerLink {
     fn hand_back(&mut self, route: Box<dyn std::any::Any + Send>, reason: &str);
     /// Stops serving: no longer alive to the coordinator.
     fn leave(&mut self);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::study_refusal;
+
+    #[test]
+    fn an_unpinned_worker_serves_any_study() {
+        assert_eq!(study_refusal(None, "abcdef"), None);
+    }
+
+    #[test]
+    fn a_pinned_worker_serves_only_its_study() {
+        assert_eq!(study_refusal(Some("abc"), "abcdef"), None);
+        let why = study_refusal(Some("abd"), "abcdef").expect("refused");
+        assert!(
+            why.contains("runs study abcdef") && why.contains("serves only study abd"),
+            "{why}"
+        );
+        assert!(study_refusal(Some(""), "abcdef").is_some());
+    }
 }

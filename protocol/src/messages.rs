@@ -43,7 +43,8 @@ pub struct History {
     pub dt_s: f64,
     /// Channel names, one per column (units in the name, e.g. `A13_accel_m_s2`).
     pub channels: Vec<String>,
-    /// Samples, `n_samples x channels.len()`, row-major.
+    /// Samples, `n_samples x channels.len()`, row-major (one byte blob on the wire).
+    #[serde(with = "crate::raw_f64")]
     pub data: Vec<f64>,
 }
 
@@ -138,6 +139,8 @@ pub enum FromWorker {
         name: String,
         /// How many tasks it runs at once.
         threads: u32,
+        /// The study it is pinned to (hash prefix), if any.
+        study: Option<String>,
     },
     /// The answer to a task.
     Result(TaskResult),

@@ -13,7 +13,7 @@
 //! endpoint.
 
 use crate::codec;
-use crate::link::{Joined, LinkEvent, Ticket, WorkerLink};
+use crate::link::{study_refusal, JoinRequest, Joined, LinkEvent, Ticket, WorkerLink};
 use crate::transport::{Transport, TransportError, TransportEvent, WorkerId};
 use crate::{FromWorker, ModelSpec, Task, TaskResult, ToWorker, PROTOCOL_VERSION};
 use std::collections::HashMap;
@@ -124,14 +124,25 @@ impl ZenohCoordinator {
         })
         .map_err(setup)?;
         let events = self.events_tx.clone();
+        let hash = study_hash.to_string();
         let q = session
             .declare_queryable(format!("{}/welcome", self.prefix))
             .complete(true)
             .callback(move |query: Query| {
                 let bytes = query.payload().map(|p| p.to_bytes().into_owned()).unwrap_or_default();
                 match codec::decode::<FromWorker>(&bytes) {
-                    Ok(FromWorker::Hello { .. }) => {
-                        let _ = query.reply(query.key_expr().clone(), welcome.clone()).wait();
+                    Ok(FromWorker::Hello { name, study, .. }) => {
+                        match study_refusal(study.as_deref(), &hash) {
+                            None => {
+                                let _ =
+                                    query.reply(query.key_expr().clone(), welcome.clone()).wait();
+                            }
+                            Some(why) => {
+                                let _ = query.reply_err(why.clone()).wait();
+                                let reason = format!("worker {name} refused: {why}");
+                                let _ = events.send(TransportEvent::Rejected { reason });
+                            }
+                        }
                     }
                     Ok(_) => {
                         let _ = query.reply_err("expected a Hello").wait();
@@ -345,15 +356,16 @@ impl ZenohWorker {
 impl WorkerLink for ZenohWorker {
     fn join(
         &mut self,
-        name: &str,
-        threads: u32,
+        request: &JoinRequest,
         timeout: Duration,
     ) -> Result<Option<Joined>, TransportError> {
-        self.name = format!("{}/{}", safe_name(name), threads.max(1));
+        let threads = request.threads.max(1);
+        self.name = format!("{}/{threads}", safe_name(&request.name));
         let hello = codec::encode(&FromWorker::Hello {
             proto: PROTOCOL_VERSION,
-            name: name.into(),
+            name: request.name.clone(),
             threads,
+            study: request.study.clone(),
         })
         .map_err(setup)?;
         let replies = self
@@ -364,6 +376,9 @@ impl WorkerLink for ZenohWorker {
             .timeout(timeout)
             .wait()
             .map_err(|e| TransportError::Closed(e.to_string()))?;
+        // Several sweeps may answer: join the first that welcomes us, and
+        // report refusals only when nobody did.
+        let mut refusals = Vec::new();
         while let Ok(reply) = replies.recv() {
             match reply.result() {
                 Ok(sample) => match codec::decode::<ToWorker>(&sample.payload().to_bytes()) {
@@ -372,17 +387,20 @@ impl WorkerLink for ZenohWorker {
                         return Ok(Some(Joined { study_hash, model }));
                     }
                     Ok(other) => tracing::warn!(?other, "unexpected answer to Hello"),
-                    Err(e) => tracing::warn!(error = %e, "undecodable welcome"),
+                    Err(e) => refusals.push(format!("undecodable welcome: {e}")),
                 },
                 Err(err) => {
-                    let text = String::from_utf8_lossy(&err.payload().to_bytes()).into_owned();
-                    return Err(TransportError::Setup(format!(
-                        "coordinator refused this worker: {text}"
-                    )));
+                    refusals.push(String::from_utf8_lossy(&err.payload().to_bytes()).into())
                 }
             }
         }
-        Ok(None)
+        match refusals.is_empty() {
+            true => Ok(None),
+            false => Err(TransportError::Setup(format!(
+                "coordinator refused this worker: {}",
+                refusals.join("; ")
+            ))),
+        }
     }
 
     fn serve(&mut self) -> Result<(), TransportError> {

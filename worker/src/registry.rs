@@ -21,10 +21,7 @@ const KINDS: &[(&str, Constructor)] = &[
         Ok(Box::new(Borehole::new(n)?))
     }),
     ("oscillator", |o, n| Ok(Box::new(Oscillator::new(options("oscillator", o)?, n)?))),
-    ("noop", |o, _| {
-        options::<Empty>("noop", o)?;
-        Ok(Box::new(Noop))
-    }),
+    ("noop", |o, _| Ok(Box::new(options::<Noop>("noop", o)?))),
     ("test-faults", |o, n| Ok(Box::new(Faults::new(options("test-faults", o)?, n)?))),
 ];
 

@@ -5,7 +5,7 @@
 
 use crate::run::LocalRunner;
 use protocol::in_process::TaskRunner;
-use protocol::link::{LinkEvent, Replier, WorkerLink};
+use protocol::link::{JoinRequest, LinkEvent, Replier, WorkerLink};
 use protocol::{Task, TaskResult, TransportError};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -20,6 +20,8 @@ pub struct RemoteSettings {
     pub name: String,
     /// Tasks run at once.
     pub threads: usize,
+    /// Serve only the study whose hash starts with this.
+    pub study: Option<String>,
 }
 
 /// Why a remote worker stopped with an error.
@@ -104,8 +106,10 @@ pub fn serve_remote(
     s: &RemoteSettings,
     stop: &Arc<AtomicBool>,
 ) -> Result<(), RemoteError> {
+    let request =
+        JoinRequest { name: s.name.clone(), threads: s.threads as u32, study: s.study.clone() };
     while !stop.load(Ordering::Relaxed) {
-        let Some(joined) = link.join(&s.name, s.threads as u32, Duration::from_secs(1))? else {
+        let Some(joined) = link.join(&request, Duration::from_secs(1))? else {
             std::thread::sleep(Duration::from_millis(200));
             continue;
         };

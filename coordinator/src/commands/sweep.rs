@@ -149,13 +149,14 @@ pub fn status(args: StatusArgs) -> Result<()> {
     let store = Store::open(&args.store)?;
     let (ok, failed, missing) = store.counts()?;
     let name = store.meta("study_name")?.unwrap_or_default();
+    let hash = store.meta("study_hash")?.unwrap_or_default();
     if args.json {
-        println!(
-            "{}",
-            serde_json::json!({"study": name, "ok": ok, "failed": failed, "missing": missing})
-        );
+        let v = serde_json::json!({"study": name, "hash": hash, "ok": ok, "failed": failed,
+            "missing": missing});
+        println!("{v}");
     } else {
-        println!("{name}: {ok} ok, {failed} failed, {missing} missing");
+        let short = &hash[..hash.len().min(16)];
+        println!("{name} ({short}): {ok} ok, {failed} failed, {missing} missing");
     }
     Ok(())
 }

@@ -24,6 +24,10 @@ pub struct WorkerArgs {
     /// Name announced to the coordinator (default: host-pid).
     #[arg(long)]
     pub name: Option<String>,
+    /// Serve only this study: a study file, or a prefix of its hash (as
+    /// `ceilfarm status` prints it). Other sweeps refuse this worker.
+    #[arg(long)]
+    pub study: Option<String>,
 }
 
 /// Sets `stop` on SIGTERM or SIGINT.
@@ -58,7 +62,22 @@ pub fn run(args: WorkerArgs) -> Result<()> {
     let name =
         args.name.unwrap_or_else(|| format!("{}-{}", worker::run::host_name(), std::process::id()));
     let mut link = coordinator::transports::worker_link(args.transport, args.connect.as_deref())?;
-    let settings = worker::remote::RemoteSettings { name, threads: args.threads };
+    let study = args.study.as_deref().map(study_pin).transpose()?;
+    let settings = worker::remote::RemoteSettings { name, threads: args.threads, study };
     worker::remote::serve_remote(link.as_mut(), &settings, &stop)?;
     Ok(())
+}
+
+/// The study hash prefix a worker is pinned to: a study file's hash, or the
+/// hash prefix given as is.
+fn study_pin(arg: &str) -> Result<String> {
+    let path = std::path::Path::new(arg);
+    if path.exists() {
+        let study = coordinator::study::Study::load(path)?;
+        return Ok(study.hash());
+    }
+    if arg.is_empty() || !arg.chars().all(|c| c.is_ascii_hexdigit()) {
+        anyhow::bail!("--study {arg:?}: expected a study file or a hexadecimal study hash prefix");
+    }
+    Ok(arg.to_ascii_lowercase())
 }

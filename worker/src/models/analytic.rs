@@ -166,14 +166,32 @@ impl Model for Borehole {
 }
 
 /// A model that does nothing: output `y = 0`; measures pure farm overhead.
-pub struct Noop;
+/// With `history_samples = n` it also returns one history of `n` f64 samples
+/// (e.g. 131072 for a 1 MiB result), to measure transports on large results.
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Noop {
+    /// Samples in the returned history (0 = none).
+    #[serde(default)]
+    pub history_samples: usize,
+}
 
 impl Model for Noop {
     fn output_names(&self) -> Vec<String> {
         vec!["y".into()]
     }
-    fn run(&self, _: &ParamSet<'_>, _: &RunContext) -> Result<Outputs, RunError> {
-        Ok(Outputs { scalars: vec![("y".into(), 0.0)], histories: vec![] })
+    fn run(&self, p: &ParamSet<'_>, _: &RunContext) -> Result<Outputs, RunError> {
+        let mut out = Outputs { scalars: vec![("y".into(), 0.0)], histories: vec![] };
+        if self.history_samples > 0 {
+            let x = p.values().first().copied().unwrap_or(0.0);
+            out.histories.push(protocol::History {
+                name: "noise".into(),
+                dt_s: 0.01,
+                channels: vec!["x".into()],
+                data: (0..self.history_samples).map(|i| x + i as f64).collect(),
+            });
+        }
+        Ok(out)
     }
 }
 

@@ -1,0 +1,277 @@
+//! Transport benchmark: for in-process, iceoryx2 and zenoh, the median round
+//! trip of one task at a time through the bare transport and through the
+//! farm, the farm's tasks/s with two worker processes, for a no-op result and
+//! a 1 MiB history; then the two-worker speed-up of a study's sweep.
+//! Run by `scripts/bench/transports`.
+//!
+//! Usage: transport_bench CEILFARM_BIN [TASKS] [REPEATS] [SPEEDUP_STUDY.toml]
+
+use coordinator::farm::{run_farm, FarmSettings, ResultSink};
+use coordinator::study::{Study, TransportKind};
+use coordinator::transports::coordinator_transport;
+use protocol::{ModelSpec, Task, TaskId, TaskResult, Transport, TransportEvent};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+struct Null;
+impl ResultSink for Null {
+    fn accept(&mut self, _: &[TaskResult]) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// CPU seconds (user + system) of this process and of its waited-for children.
+fn cpu_s() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let after = stat.rsplit(')').next().unwrap_or("");
+    let f: Vec<&str> = after.split_whitespace().collect();
+    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    (ticks(11) + ticks(12) + ticks(13) + ticks(14)) / 100.0
+}
+
+/// Where one run's coordinator listens and its workers connect.
+struct Setup {
+    kind: TransportKind,
+    endpoint: Option<String>,
+}
+
+impl Setup {
+    fn new(kind: TransportKind, run: usize) -> Self {
+        let endpoint = match kind {
+            TransportKind::InProcess => None,
+            TransportKind::Iceoryx2 => Some(format!("cfbench{}r{run}", std::process::id())),
+            TransportKind::Zenoh => {
+                let l = std::net::TcpListener::bind("127.0.0.1:0").expect("port");
+                Some(format!("tcp/127.0.0.1:{}", l.local_addr().expect("addr").port()))
+            }
+        };
+        Self { kind, endpoint }
+    }
+
+    fn transport(&self, workers: usize) -> Box<dyn Transport> {
+        coordinator_transport(self.kind, workers, self.endpoint.as_deref()).expect("transport")
+    }
+
+    /// Starts `n` worker processes (none for in-process).
+    fn workers(&self, bin: &str, n: usize) -> Vec<Child> {
+        if self.kind == TransportKind::InProcess {
+            return Vec::new();
+        }
+        (0..n)
+            .map(|i| {
+                Command::new(bin)
+                    .args(["worker", "--transport", self.kind.as_str()])
+                    .args(["--connect", self.endpoint.as_deref().expect("endpoint")])
+                    .args(["--name", &format!("bench{i}")])
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::null())
+                    .spawn()
+                    .expect("spawn worker")
+            })
+            .collect()
+    }
+}
+
+fn stop(children: Vec<Child>) {
+    for c in &children {
+        let _ = Command::new("kill").args(["-TERM", &c.id().to_string()]).status();
+    }
+    for mut c in children {
+        let _ = c.wait();
+    }
+}
+
+fn noop(history_samples: usize) -> ModelSpec {
+    ModelSpec {
+        kind: "noop".into(),
+        options_json: format!("{{\"history_samples\": {history_samples}}}"),
+        param_names: vec!["a".into()],
+        outputs: vec![],
+    }
+}
+
+fn tasks(n: usize) -> Vec<Task> {
+    (0..n).map(|i| Task { id: TaskId(i as u64), params: vec![i as f64] }).collect()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Median round trip (s) of `n` tasks sent one at a time on the bare transport.
+fn bare_round_trip(setup: &Setup, bin: &str, spec: &ModelSpec, n: usize) -> f64 {
+    let mut t = setup.transport(1);
+    let children = setup.workers(bin, 1);
+    t.start(&format!("{:032x}", rand_hash()), spec).expect("start");
+    let worker = loop {
+        if let Some(TransportEvent::Joined { worker, .. }) =
+            t.next_event(Duration::from_secs(30)).expect("event")
+        {
+            break worker;
+        }
+    };
+    let mut times = Vec::with_capacity(n);
+    for task in tasks(n) {
+        let t0 = Instant::now();
+        t.send(worker, task).expect("send");
+        loop {
+            match t.next_event(Duration::from_secs(30)).expect("event") {
+                Some(TransportEvent::Result { .. }) => break,
+                Some(_) => {}
+                None => panic!("no result within 30 s"),
+            }
+        }
+        times.push(t0.elapsed().as_secs_f64());
+    }
+    t.shutdown();
+    stop(children);
+    median(times)
+}
+
+fn rand_hash() -> u128 {
+    let t = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).expect("clock");
+    t.as_nanos() ^ ((std::process::id() as u128) << 64)
+}
+
+/// Counts tasks finished once all expected workers are in.
+struct Clock {
+    expected: usize,
+    joined: usize,
+    full: Option<Instant>,
+    after: usize,
+}
+
+impl coordinator::farm::FarmObserver for Clock {
+    fn finished(&mut self, _: &TaskResult) {
+        if self.full.is_some() {
+            self.after += 1;
+        }
+    }
+    fn membership(&mut self, joined: bool, _: protocol::WorkerId, _: &str) {
+        if joined {
+            self.joined += 1;
+            if self.joined == self.expected && self.full.is_none() {
+                self.full = Some(Instant::now());
+            }
+        }
+    }
+}
+
+/// Seconds per task once every worker is in (joining is not the farm's
+/// overhead), and CPU seconds per task of the whole run, coordinator and workers.
+fn farm_run(
+    setup: &Setup,
+    bin: &str,
+    spec: &ModelSpec,
+    tasks: Vec<Task>,
+    workers: usize,
+    window: usize,
+) -> (f64, f64) {
+    let mut t = setup.transport(workers);
+    let children = setup.workers(bin, workers);
+    let settings = FarmSettings { window_per_slot: window, ..FarmSettings::default() };
+    let hash = format!("{:032x}", rand_hash());
+    let n = tasks.len();
+    let mut clock = Clock { expected: workers, joined: 0, full: None, after: 0 };
+    let (c0, start) = (cpu_s(), Instant::now());
+    let s =
+        run_farm(t.as_mut(), &hash, spec, tasks, &settings, &mut Null, &mut clock).expect("farm");
+    let end = Instant::now();
+    stop(children);
+    let cpu = cpu_s() - c0;
+    assert_eq!(s.ok, n, "every task once");
+    // A run so short that it ended before every worker was in: time it all.
+    let full = clock.full.unwrap_or(start);
+    let done = if clock.full.is_some() { clock.after } else { n };
+    ((end - full).as_secs_f64() / done.max(1) as f64, cpu / n as f64)
+}
+
+const KINDS: [TransportKind; 3] =
+    [TransportKind::InProcess, TransportKind::Iceoryx2, TransportKind::Zenoh];
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let bin = args.get(1).expect("usage: transport_bench CEILFARM_BIN [TASKS] [REPEATS] [STUDY]");
+    let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2000);
+    let repeats: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(3);
+    println!(
+        "{:<11} {:<6} {:>12} {:>12} {:>8} {:>12} {:>14}",
+        "transport", "result", "bare rtt us", "farm rtt us", "ratio", "farm tasks/s", "cpu us/task"
+    );
+    let mut run = 0;
+    for kind in KINDS {
+        for (label, samples, count) in [("small", 0usize, n), ("1MiB", 131_072, n.min(200))] {
+            let spec = noop(samples);
+            let (mut bare, mut seq, mut thr, mut cpu) = (vec![], vec![], vec![], vec![]);
+            for _ in 0..repeats {
+                run += 1;
+                bare.push(bare_round_trip(&Setup::new(kind, run), bin, &spec, count.min(500)));
+                run += 1;
+                let m = count.min(500);
+                let (per_task, _) = farm_run(&Setup::new(kind, run), bin, &spec, tasks(m), 1, 1);
+                seq.push(per_task);
+                run += 1;
+                let (per_task, c) =
+                    farm_run(&Setup::new(kind, run), bin, &spec, tasks(count), 2, 2);
+                thr.push(1.0 / per_task);
+                cpu.push(c);
+            }
+            let (b, s) = (median(bare), median(seq));
+            println!(
+                "{:<11} {label:<6} {:>12.1} {:>12.1} {:>8.2} {:>12.0} {:>14.1}",
+                kind.as_str(),
+                b * 1e6,
+                s * 1e6,
+                s / b,
+                median(thr),
+                median(cpu) * 1e6
+            );
+        }
+    }
+    if let Some(path) = args.get(4) {
+        speedup(bin, path, repeats, &mut run);
+    }
+}
+
+/// Two-worker speed-up of a study's sweep over iceoryx2 processes and in-process.
+fn speedup(bin: &str, path: &str, repeats: usize, run: &mut usize) {
+    let study = Study::load(std::path::Path::new(path)).expect("study");
+    if worker::registry::kinds().iter().all(|k| *k != study.model_kind) {
+        println!("speed-up: skipped, model kind {} is not in this build", study.model_kind);
+        return;
+    }
+    let unit = coordinator::design::draw(
+        study.design.method,
+        study.design.n,
+        study.parameters.len(),
+        study.design.seed,
+    );
+    let points = unit.to_physical(&study.parameters);
+    let tasks: Vec<Task> = points
+        .into_iter()
+        .enumerate()
+        .map(|(i, params)| Task { id: TaskId(i as u64), params })
+        .collect();
+    let spec = study.model_spec();
+    println!("\nspeed-up on {} ({} runs of {}):", path, tasks.len(), study.model_kind);
+    for kind in [TransportKind::InProcess, TransportKind::Iceoryx2] {
+        let mut walls = [vec![], vec![]];
+        for _ in 0..repeats {
+            for (slot, workers) in [(0, 1usize), (1, 2)] {
+                *run += 1;
+                let setup = Setup::new(kind, *run);
+                let (per_task, _) = farm_run(&setup, bin, &spec, tasks.clone(), workers, 2);
+                walls[slot].push(per_task * tasks.len() as f64);
+            }
+        }
+        let (one, two) = (median(walls[0].clone()), median(walls[1].clone()));
+        println!(
+            "{:<11} 1 worker {:>8.3} s   2 workers {:>8.3} s   speed-up {:.2}",
+            kind.as_str(),
+            one,
+            two,
+            one / two
+        );
+    }
+}
