@@ -22,6 +22,7 @@ pub fn coordinator_transport(
     workers: usize,
     endpoint: Option<&str>,
 ) -> Result<Box<dyn Transport>, TransportChoiceError> {
+    let _ = endpoint; // unused when neither remote transport is built
     match kind {
         TransportKind::InProcess => {
             Ok(Box::new(InProcess::new(workers, worker::LocalRunner::factory())))
