@@ -8,6 +8,7 @@
 
 pub mod bundle;
 pub mod design;
+pub mod diagnose;
 pub mod export;
 pub mod export_parquet;
 pub mod farm;
