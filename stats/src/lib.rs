@@ -5,5 +5,6 @@
 
 pub mod bbvi;
 pub mod calibration;
+pub mod gp;
 pub mod mcmc;
 pub mod selection;
