@@ -8,3 +8,4 @@ pub mod calibration;
 pub mod gp;
 pub mod mcmc;
 pub mod selection;
+pub mod sobol;
