@@ -9,3 +9,4 @@ pub mod gp;
 pub mod mcmc;
 pub mod selection;
 pub mod sobol;
+pub mod validation;
