@@ -87,6 +87,11 @@ pub fn analyze(d: usize, y: &[f64], set: &AnalyzeSettings) -> Result<Indices, So
     if let Some(index) = y.iter().position(|v| !v.is_finite()) {
         return Err(SobolError::NonFinite { index });
     }
+    // Centre the outputs: the Saltelli-2010 first-order estimator's
+    // variance grows with the squared mean of f (SALib standardises too).
+    let centre = y.iter().sum::<f64>() / y.len() as f64;
+    let y: Vec<f64> = y.iter().map(|v| v - centre).collect();
+    let y = &y[..];
     let n = y.len() / block;
     let rows: Vec<usize> = (0..n).collect();
     let (s1, st) = estimate(d, y, &rows, set.first_order).ok_or(SobolError::ZeroVariance)?;
@@ -193,6 +198,27 @@ mod tests {
     #[test]
     fn quantile_of_975_is_196() {
         assert!((normal_quantile(0.975) - 1.959964).abs() < 1e-5);
+    }
+
+    #[test]
+    fn offset_does_not_widen_first_order_interval() {
+        let p = super::super::Problem {
+            names: vec!["a".into(), "b".into()],
+            bounds: vec![(0.0, 1.0); 2],
+        };
+        let x = super::super::saltelli_sample(&p, 1024, 3);
+        let y: Vec<f64> = x.chunks(2).map(|r| r[0] + 2.0 * r[1]).collect();
+        let shifted: Vec<f64> = y.iter().map(|v| v + 1000.0).collect();
+        let a = analyze(2, &y, &AnalyzeSettings::default()).unwrap();
+        let b = analyze(2, &shifted, &AnalyzeSettings::default()).unwrap();
+        for i in 0..2 {
+            assert!(
+                (a.s1_conf[i] - b.s1_conf[i]).abs() < 1e-6,
+                "{} vs {}",
+                a.s1_conf[i],
+                b.s1_conf[i]
+            );
+        }
     }
 
     #[test]
