@@ -24,6 +24,7 @@ pub mod lbfgs;
 pub mod likelihood;
 pub mod mean;
 pub mod model;
+pub mod pca;
 pub mod scaling;
 
 pub use error::GpError;
