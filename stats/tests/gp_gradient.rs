@@ -94,3 +94,34 @@ fn recovers_known_length_scale() {
     assert!((l0 - 0.2).abs() < 0.03, "fitted l0 = {l0}");
     assert!(gp.model.kernel.lengths[1] > 0.8, "fitted l1 = {}", gp.model.kernel.lengths[1]);
 }
+
+#[test]
+fn shared_lml_gradient_matches_finite_differences() {
+    let d = 2;
+    let (x, y1) = data(30, d, 5);
+    let y2: Vec<f64> = x.chunks(d).map(|r| (2.0 * r[1]).cos() - r[0]).collect();
+    let ys: [&[f64]; 2] = [&y1, &y2];
+    for kind in KernelKind::ALL {
+        let np = kind.n_params(d) + 1;
+        let mut theta: Vec<f64> = (0..np).map(|k| -0.3 - 0.1 * k as f64).collect();
+        theta[np - 1] = -4.0;
+        let (v, g) = stats::gp::likelihood::lml_and_grad_shared(kind, &theta, &x, d, &ys).unwrap();
+        let v1 = lml_and_grad(kind, &theta, &x, d, &y1).unwrap().0;
+        let v2 = lml_and_grad(kind, &theta, &x, d, &y2).unwrap().0;
+        assert!((v - v1 - v2).abs() < 1e-8 * v.abs().max(1.0), "{kind:?}: shared LML is the sum");
+        for j in 0..np {
+            let h = 1e-5;
+            let (mut tp, mut tm) = (theta.clone(), theta.clone());
+            tp[j] += h;
+            tm[j] -= h;
+            let fp = stats::gp::likelihood::lml_and_grad_shared(kind, &tp, &x, d, &ys).unwrap().0;
+            let fm = stats::gp::likelihood::lml_and_grad_shared(kind, &tm, &x, d, &ys).unwrap().0;
+            let fd = (fp - fm) / (2.0 * h);
+            assert!(
+                (fd - g[j]).abs() < 1e-5 * (1.0 + fd.abs()),
+                "{kind:?} theta[{j}]: {} vs {fd}",
+                g[j]
+            );
+        }
+    }
+}

@@ -5,7 +5,7 @@
 use super::error::GpError;
 use super::kernel::{Kernel, KernelKind};
 use super::lbfgs::{minimise, LbfgsSettings};
-use super::likelihood::{factor, lml_and_grad, lml_from_factor};
+use super::likelihood::{factor, lml_and_grad_shared, lml_from_factor};
 use super::mean::{MeanKind, Trend};
 use super::model::{FitReport, Gp, GpModel};
 use super::scaling::{InputScaling, OutputScaling};
@@ -136,6 +136,23 @@ fn check_data(x: &[f64], d: usize, y: &[f64]) -> Result<(), GpError> {
     Ok(())
 }
 
+/// Residual after the mean trend, standardised: (trend, scaling, y_s).
+fn standardise(
+    xs: &[f64],
+    d: usize,
+    y: &[f64],
+    mean: MeanKind,
+) -> (Option<Trend>, OutputScaling, Vec<f64>) {
+    let trend = (mean == MeanKind::Linear).then(|| Trend::fit_linear(xs, d, y));
+    let resid: Vec<f64> = match &trend {
+        Some(t) => y.iter().enumerate().map(|(i, v)| v - t.eval(&xs[i * d..(i + 1) * d])).collect(),
+        None => y.to_vec(),
+    };
+    let out = OutputScaling::from_data(&resid, mean != MeanKind::Zero);
+    let ys = resid.iter().map(|v| (v - out.mean) / out.sd).collect();
+    (trend, out, ys)
+}
+
 /// Fit a GP to physical inputs `x` ((n, d) row-major) and outputs `y`,
 /// scaling inputs with `scaling` (design bounds) or the data range.
 pub fn fit(
@@ -145,43 +162,60 @@ pub fn fit(
     scaling: Option<InputScaling>,
     set: &GpSettings,
 ) -> Result<Gp, GpError> {
+    Ok(fit_shared(x, d, &[y.to_vec()], scaling, set)?.remove(0))
+}
+
+/// Fit several outputs (each (n)) with one shared kernel and noise, chosen
+/// by maximising the sum of their log marginal likelihoods; one GP each.
+pub fn fit_shared(
+    x: &[f64],
+    d: usize,
+    ys: &[Vec<f64>],
+    scaling: Option<InputScaling>,
+    set: &GpSettings,
+) -> Result<Vec<Gp>, GpError> {
     set.check()?;
-    check_data(x, d, y)?;
+    if ys.is_empty() {
+        return Err(GpError::Shape { what: "outputs", expected: 1, found: 0 });
+    }
+    for y in ys {
+        check_data(x, d, y)?;
+    }
     let scaling = scaling.unwrap_or_else(|| InputScaling::from_data(x, d));
     let xs = scaling.apply(x);
-    let trend = (set.mean == MeanKind::Linear).then(|| Trend::fit_linear(&xs, d, y));
-    let resid: Vec<f64> = match &trend {
-        Some(t) => y.iter().enumerate().map(|(i, v)| v - t.eval(&xs[i * d..(i + 1) * d])).collect(),
-        None => y.to_vec(),
-    };
-    let out = OutputScaling::from_data(&resid, set.mean != MeanKind::Zero);
-    let ys: Vec<f64> = resid.iter().map(|v| (v - out.mean) / out.sd).collect();
-    let (theta, report) = optimise(&xs, d, &ys, set)?;
+    let prepared: Vec<_> = ys.iter().map(|y| standardise(&xs, d, y, set.mean)).collect();
+    let targets: Vec<Vec<f64>> = prepared.iter().map(|p| p.2.clone()).collect();
+    let (theta, report) = optimise(&xs, d, &targets, set)?;
     let np = theta.len() - 1;
-    let model = GpModel {
-        kernel: Kernel::from_log(set.kernel, &theta[..np]),
-        noise_var: theta[np].exp(),
-        mean: set.mean,
-        trend,
-        input_scaling: scaling,
-        output_scaling: out,
-        x: xs,
-        y: ys,
-        dim: d,
-        report,
-    };
-    Gp::from_model(model)
+    prepared
+        .into_iter()
+        .map(|(trend, out, y)| {
+            Gp::from_model(GpModel {
+                kernel: Kernel::from_log(set.kernel, &theta[..np]),
+                noise_var: theta[np].exp(),
+                mean: set.mean,
+                trend,
+                input_scaling: scaling.clone(),
+                output_scaling: out,
+                x: xs.clone(),
+                y,
+                dim: d,
+                report: report.clone(),
+            })
+        })
+        .collect()
 }
 
 /// Maximise the LML over θ from all starts; the best θ and a report.
 fn optimise(
     xs: &[f64],
     d: usize,
-    ys: &[f64],
+    ys: &[Vec<f64>],
     set: &GpSettings,
 ) -> Result<(Vec<f64>, FitReport), GpError> {
     let starts = set.starts(d);
     let (lo, hi) = set.log_bounds(d);
+    let refs: Vec<&[f64]> = ys.iter().map(|y| y.as_slice()).collect();
     let next = AtomicUsize::new(0);
     let results = Mutex::new(Vec::new());
     let threads = if set.threads == 0 {
@@ -198,7 +232,7 @@ fn optimise(
                     break;
                 }
                 let obj = |t: &[f64]| {
-                    lml_and_grad(set.kernel, t, xs, d, ys)
+                    lml_and_grad_shared(set.kernel, t, xs, d, &refs)
                         .ok()
                         .map(|(v, g)| (-v, g.into_iter().map(|x| -x).collect()))
                 };

@@ -88,10 +88,31 @@ pub fn lml_and_grad(
     d: usize,
     y: &[f64],
 ) -> Result<(f64, Vec<f64>), GpError> {
+    lml_and_grad_shared(kind, theta, x, d, &[y])
+}
+
+/// α = K⁻¹ y for a factor.
+fn solve(f: &Factor, y: &[f64]) -> Vec<f64> {
+    let mut rhs = Mat::<f64>::from_fn(y.len(), 1, |i, _| y[i]);
+    f.llt.solve_in_place(rhs.as_mut());
+    (0..y.len()).map(|i| rhs[(i, 0)]).collect()
+}
+
+/// Sum over outputs `ys` (each (n), sharing one kernel and noise) of the
+/// log marginal likelihoods, and its gradient: W = Σ_c α_c α_cᵀ − m K⁻¹.
+pub fn lml_and_grad_shared(
+    kind: KernelKind,
+    theta: &[f64],
+    x: &[f64],
+    d: usize,
+    ys: &[&[f64]],
+) -> Result<(f64, Vec<f64>), GpError> {
     let np = theta.len() - 1;
     let kernel = Kernel::from_log(kind, &theta[..np]);
     let noise_var = theta[np].exp();
+    let y = ys[0];
     let n = y.len();
+    let mo = ys.len() as f64;
     let s2 = kernel.variance;
     // Pass 1: covariance, keeping g, h and ∂g/∂ln α per pair.
     let mut k = Mat::<f64>::zeros(n, n);
@@ -108,20 +129,28 @@ pub fn lml_and_grad(
         }
     }
     let f = factor_matrix(k, s2, y)?;
-    let value = lml_from_factor(&f, y);
+    let mut value = lml_from_factor(&f, y);
+    let mut alphas = vec![f.alpha.clone()];
+    for yc in &ys[1..] {
+        let a = solve(&f, yc);
+        let fit: f64 = yc.iter().zip(&a).map(|(p, q)| p * q).sum();
+        let fit0: f64 = y.iter().zip(&f.alpha).map(|(p, q)| p * q).sum();
+        value += lml_from_factor(&f, y) + 0.5 * fit0 - 0.5 * fit;
+        alphas.push(a);
+    }
     let kinv = f.llt.inverse();
-    let alpha = &f.alpha;
+    let aa = |i: usize, j: usize| alphas.iter().map(|a| a[i] * a[j]).sum::<f64>();
     let mut grad = vec![0.0; theta.len()];
     let inv_l2: Vec<f64> = kernel.lengths.iter().map(|l| 1.0 / (l * l)).collect();
     let mut p = 0;
     let mut trace_w = 0.0;
     for i in 0..n {
         let xi = &x[i * d..(i + 1) * d];
-        let wii = alpha[i] * alpha[i] - kinv[(i, i)];
+        let wii = aa(i, i) - mo * kinv[(i, i)];
         trace_w += wii;
         for j in 0..i {
             let xj = &x[j * d..(j + 1) * d];
-            let w = (alpha[i] * alpha[j] - kinv[(i, j)]) * s2;
+            let w = (aa(i, j) - mo * kinv[(i, j)]) * s2;
             let (g, h, da) = pairs[p];
             p += 1;
             let wh = w * h;
