@@ -41,6 +41,11 @@ enum Command {
     Calibrate(commands::calibrate::Args),
     /// Model selection among parameter subsets (criteria.csv, criteria.json).
     Select(commands::select::Args),
+    /// Gaussian-process emulators: fit to a dataset, predict at points.
+    #[command(subcommand)]
+    Gp(commands::gp::GpCommand),
+    /// Sobol' sensitivity indices of a function or a GP emulator of a dataset.
+    Sobol(commands::sobol::Args),
 }
 
 fn init_logging(verbose: u8) {
@@ -68,6 +73,8 @@ fn main() -> std::process::ExitCode {
         Command::Worker(a) => commands::worker::run(a),
         Command::Calibrate(a) => commands::calibrate::run(a),
         Command::Select(a) => commands::select::run(a),
+        Command::Gp(c) => commands::gp::run(c),
+        Command::Sobol(a) => commands::sobol::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -5,5 +5,8 @@
 
 pub mod bbvi;
 pub mod calibration;
+pub mod gp;
 pub mod mcmc;
 pub mod selection;
+pub mod sobol;
+pub mod validation;

@@ -3,6 +3,8 @@
 pub mod bundle;
 pub mod calibrate;
 pub mod fe;
+pub mod gp;
 pub mod select;
+pub mod sobol;
 pub mod sweep;
 pub mod worker;

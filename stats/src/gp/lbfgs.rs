@@ -1,0 +1,176 @@
+//! A small box-constrained L-BFGS: the two-loop recursion (Nocedal and
+//! Wright, *Numerical Optimization*, 2006, alg. 7.4) on the free variables,
+//! a projected Armijo backtracking line search, and the L-BFGS-B stopping
+//! rules (projected gradient, relative decrease). argmin's L-BFGS has no
+//! bounds; the GP hyperparameters need them (length scales must neither
+//! collapse nor run to infinity), hence this projection variant.
+
+/// Settings of the bounded L-BFGS.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LbfgsSettings {
+    /// Number of stored correction pairs.
+    pub memory: usize,
+    /// Maximum iterations.
+    pub max_iter: usize,
+    /// Stop when the projected gradient's max-norm falls below this.
+    pub gtol: f64,
+    /// Stop when the relative decrease of f falls below this.
+    pub ftol: f64,
+}
+
+impl Default for LbfgsSettings {
+    fn default() -> Self {
+        LbfgsSettings { memory: 10, max_iter: 200, gtol: 1e-5, ftol: 1e-9 }
+    }
+}
+
+/// Result of a minimisation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LbfgsResult {
+    /// Minimiser found.
+    pub x: Vec<f64>,
+    /// Objective there.
+    pub f: f64,
+    /// Iterations taken.
+    pub iterations: usize,
+    /// Objective evaluations.
+    pub evaluations: usize,
+}
+
+fn project(x: &mut [f64], lo: &[f64], hi: &[f64]) {
+    for ((v, l), h) in x.iter_mut().zip(lo).zip(hi) {
+        *v = v.clamp(*l, *h);
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(p, q)| p * q).sum()
+}
+
+/// Variables held at a bound by a gradient pointing outwards.
+fn active(x: &[f64], g: &[f64], lo: &[f64], hi: &[f64]) -> Vec<bool> {
+    (0..x.len()).map(|k| (x[k] <= lo[k] && g[k] > 0.0) || (x[k] >= hi[k] && g[k] < 0.0)).collect()
+}
+
+/// Two-loop recursion d = −H g restricted to free variables.
+fn direction(g: &[f64], mem: &[(Vec<f64>, Vec<f64>)], fixed: &[bool]) -> Vec<f64> {
+    let mut q: Vec<f64> = g.iter().zip(fixed).map(|(v, f)| if *f { 0.0 } else { *v }).collect();
+    let mut a = vec![0.0; mem.len()];
+    for (i, (s, y)) in mem.iter().enumerate().rev() {
+        a[i] = dot(s, &q) / dot(s, y);
+        for (qk, yk) in q.iter_mut().zip(y) {
+            *qk -= a[i] * yk;
+        }
+    }
+    if let Some((s, y)) = mem.last() {
+        let gamma = dot(s, y) / dot(y, y);
+        q.iter_mut().for_each(|v| *v *= gamma);
+    }
+    for (i, (s, y)) in mem.iter().enumerate() {
+        let b = dot(y, &q) / dot(s, y);
+        for (qk, sk) in q.iter_mut().zip(s) {
+            *qk += (a[i] - b) * sk;
+        }
+    }
+    q.iter().zip(fixed).map(|(v, f)| if *f { 0.0 } else { -v }).collect()
+}
+
+/// Minimise `f` (returning value and gradient, or None where undefined)
+/// over the box [lo, hi] from `x0`. None if f is undefined at the start.
+pub fn minimise<F>(
+    mut f: F,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    set: &LbfgsSettings,
+) -> Option<LbfgsResult>
+where
+    F: FnMut(&[f64]) -> Option<(f64, Vec<f64>)>,
+{
+    let mut x = x0.to_vec();
+    project(&mut x, lo, hi);
+    let (mut fx, mut g) = f(&x)?;
+    let mut evaluations = 1;
+    let mut mem: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
+    let mut iterations = 0;
+    while iterations < set.max_iter {
+        iterations += 1;
+        let mut pg = x.clone();
+        pg.iter_mut().zip(&g).for_each(|(v, gk)| *v -= gk);
+        project(&mut pg, lo, hi);
+        let pg_norm = pg.iter().zip(&x).map(|(p, v)| (p - v).abs()).fold(0.0, f64::max);
+        if pg_norm < set.gtol {
+            break;
+        }
+        let fixed = active(&x, &g, lo, hi);
+        let mut d = direction(&g, &mem, &fixed);
+        if dot(&d, &g) >= 0.0 {
+            mem.clear();
+            d = direction(&g, &mem, &fixed);
+        }
+        let mut t = if mem.is_empty() {
+            (1.0 / d.iter().map(|v| v.abs()).fold(0.0, f64::max)).min(1.0)
+        } else {
+            1.0
+        };
+        let mut accepted = None;
+        for _ in 0..40 {
+            let mut xn: Vec<f64> = x.iter().zip(&d).map(|(v, dk)| v + t * dk).collect();
+            project(&mut xn, lo, hi);
+            evaluations += 1;
+            if let Some((fnew, gnew)) = f(&xn) {
+                let step: Vec<f64> = xn.iter().zip(&x).map(|(a, b)| a - b).collect();
+                if fnew.is_finite() && fnew <= fx + 1e-4 * dot(&g, &step) {
+                    accepted = Some((xn, fnew, gnew, step));
+                    break;
+                }
+            }
+            t *= 0.5;
+        }
+        let Some((xn, fnew, gnew, s)) = accepted else {
+            break;
+        };
+        let yv: Vec<f64> = gnew.iter().zip(&g).map(|(a, b)| a - b).collect();
+        if dot(&s, &yv) > 1e-10 * dot(&yv, &yv).max(1e-300) {
+            mem.push((s, yv));
+            if mem.len() > set.memory {
+                mem.remove(0);
+            }
+        }
+        let decrease = (fx - fnew) / fx.abs().max(fnew.abs()).max(1.0);
+        x = xn;
+        fx = fnew;
+        g = gnew;
+        if decrease < set.ftol {
+            break;
+        }
+    }
+    Some(LbfgsResult { x, f: fx, iterations, evaluations })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rosenbrock(x: &[f64]) -> Option<(f64, Vec<f64>)> {
+        let (a, b) = (x[0], x[1]);
+        let f = (1.0 - a).powi(2) + 100.0 * (b - a * a).powi(2);
+        let g = vec![-2.0 * (1.0 - a) - 400.0 * a * (b - a * a), 200.0 * (b - a * a)];
+        Some((f, g))
+    }
+
+    #[test]
+    fn finds_rosenbrock_minimum_inside_box() {
+        let set = LbfgsSettings { max_iter: 500, ftol: 1e-14, gtol: 1e-8, ..Default::default() };
+        let r = minimise(rosenbrock, &[-1.2, 1.0], &[-2.0, -2.0], &[2.0, 2.0], &set).unwrap();
+        assert!((r.x[0] - 1.0).abs() < 1e-4 && (r.x[1] - 1.0).abs() < 1e-4, "{r:?}");
+    }
+
+    #[test]
+    fn stops_on_active_bound() {
+        // Minimum of (x - 3)² on [0, 1] is at the bound x = 1.
+        let f = |x: &[f64]| Some(((x[0] - 3.0).powi(2), vec![2.0 * (x[0] - 3.0)]));
+        let r = minimise(f, &[0.2], &[0.0], &[1.0], &LbfgsSettings::default()).unwrap();
+        assert_eq!(r.x[0], 1.0);
+    }
+}
