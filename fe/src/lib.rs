@@ -5,4 +5,8 @@
 //! solvers assemble and integrate, reporting through observers. Nothing here
 //! knows about the farm or statistics.
 
+pub mod assembly;
+pub mod eigen;
+pub mod elements;
 pub mod materials;
+pub mod model;
