@@ -13,6 +13,25 @@ pub enum FeCommand {
     /// PROTOCOL.csv has the header `step,deformation_mm`. Writes
     /// `deformation_mm,force_N,tangent_N_per_mm`, one committed step per row.
     Material(MaterialArgs),
+    /// Run a `ceiling-fe-model` JSON file's own analysis.
+    ///
+    /// For eigen: writes DIR/eigen.csv (`mode,f_hz`), DIR/modeshapes.csv
+    /// (`mode,node,x_mm,y_mm,phi_x,phi_y,phi_z`, mass-normalised) and
+    /// DIR/modal.csv (participation factors, effective masses).
+    Run(RunArgs),
+}
+
+/// Arguments of `fe run`.
+#[derive(Args)]
+pub struct RunArgs {
+    /// The model JSON file (`ceiling-fe-model` v1).
+    pub model: PathBuf,
+    /// Output directory.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Number of modes (overrides the file's analysis; runs eigen).
+    #[arg(long)]
+    pub modes: Option<usize>,
 }
 
 /// Arguments of `fe material`.
@@ -33,6 +52,21 @@ pub fn run(cmd: FeCommand) -> Result<()> {
         FeCommand::Material(a) => {
             let rows = fe::materials::driver::run_files(&a.material, &a.protocol, &a.out)?;
             eprintln!("{rows} steps written to {}", a.out.display());
+            Ok(())
+        }
+        FeCommand::Run(a) => {
+            let start = std::time::Instant::now();
+            let summary = fe::run::run_model_file(&a.model, &a.out, a.modes)?;
+            let fe::run::RunSummary::Eigen(res) = summary;
+            for (k, f) in res.freq_hz.iter().enumerate() {
+                eprintln!("mode {:>3}: {:>12.6} Hz  ({})", k + 1, f, res.dominant(k));
+            }
+            eprintln!(
+                "{} modes written to {} in {:.3} s",
+                res.freq_hz.len(),
+                a.out.display(),
+                start.elapsed().as_secs_f64()
+            );
             Ok(())
         }
     }

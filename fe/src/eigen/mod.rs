@@ -13,6 +13,7 @@ pub mod dense;
 pub mod factor;
 pub mod lanczos;
 pub mod modal;
+pub mod output;
 
 pub use dense::dense_eigen;
 pub use lanczos::{shift_invert_lanczos, LanczosSettings};

@@ -1,0 +1,105 @@
+//! `ceilfarm fe run` end to end: the 2.4 m grid fixture's 12 frequencies
+//! within 1e-6 of OpenSees, mode shapes with MAC > 0.9999, `--modes`
+//! override, and a clear error for an invalid file.
+
+mod common;
+use common::*;
+
+use std::path::{Path, PathBuf};
+
+/// The shared verification folder (`CEILFARM_SHARED` or found above the repo).
+fn verification() -> PathBuf {
+    if let Ok(dir) = std::env::var("CEILFARM_SHARED") {
+        return PathBuf::from(dir).join("verification");
+    }
+    repo()
+        .ancestors()
+        .map(|a| a.join("shared").join("verification"))
+        .find(|p| p.join("MODEL_FORMAT.md").is_file())
+        .expect("shared/verification not found; set CEILFARM_SHARED")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("ceilfarm-fe-run-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn rows(path: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines().skip(1).map(|l| l.split(',').map(str::to_string).collect()).collect()
+}
+
+fn mac(a: &[f64], b: &[f64]) -> f64 {
+    let ab: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+    let aa: f64 = a.iter().map(|x| x * x).sum();
+    let bb: f64 = b.iter().map(|x| x * x).sum();
+    ab * ab / (aa * bb)
+}
+
+#[test]
+fn fe_run_reproduces_the_opensees_eigen_fixture() {
+    let models = verification().join("models");
+    let out = scratch("2p4");
+    let model = models.join("ceiling_2p4_linear.json");
+    ceilfarm_ok(&["fe", "run", model.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let got = rows(&out.join("eigen.csv"));
+    let want = rows(&models.join("ceiling_2p4_eigen.csv"));
+    assert_eq!(got.len(), 12);
+    for (g, w) in got.iter().zip(&want) {
+        let (f, e): (f64, f64) = (g[1].parse().unwrap(), w[1].parse().unwrap());
+        assert!((f - e).abs() / e < 1e-6, "mode {}: {f} vs {e}", g[0]);
+    }
+    let got = rows(&out.join("modeshapes.csv"));
+    let want = rows(&models.join("ceiling_2p4_modeshapes.csv"));
+    for mode in 1..=12 {
+        let pick = |r: &Vec<Vec<String>>| -> Vec<(String, [f64; 3])> {
+            r.iter()
+                .filter(|r| r[0] == mode.to_string())
+                .map(|r| (r[1].clone(), [4, 5, 6].map(|c| r[c].parse().unwrap())))
+                .collect()
+        };
+        let (g, w) = (pick(&got), pick(&want));
+        let mut a = vec![];
+        let mut b = vec![];
+        for (node, v) in &w {
+            let (_, u) = g.iter().find(|(n, _)| n == node).expect("node in modeshapes.csv");
+            a.extend(u);
+            b.extend(v);
+        }
+        let m = mac(&a, &b);
+        assert!(m > 0.9999, "mode {mode}: MAC {m}");
+    }
+}
+
+#[test]
+fn fe_run_modes_override_and_bad_file() {
+    let models = verification().join("models");
+    let out = scratch("override");
+    let model = models.join("ceiling_2p4_nonlinear_sweep_0p02g.json");
+    // A transient file runs as eigen when --modes is given.
+    ceilfarm_ok(&[
+        "fe",
+        "run",
+        model.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--modes",
+        "3",
+    ]);
+    assert_eq!(rows(&out.join("eigen.csv")).len(), 3);
+    // Without --modes a transient file is refused with the reason.
+    let o = ceilfarm(&["fe", "run", model.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("analysis `transient`"), "{err}");
+    // An invalid model names the item.
+    let text = std::fs::read_to_string(models.join("ceiling_2p4_linear.json")).unwrap();
+    let bad = out.join("bad.json");
+    std::fs::write(&bad, text.replace("\"length\": \"mm\"", "\"length\": \"m\"")).unwrap();
+    let o = ceilfarm(&["fe", "run", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("units.length = `m`: expected `mm`"), "{err}");
+}
