@@ -8,6 +8,7 @@
 pub mod assembly;
 pub mod eigen;
 pub mod elements;
+pub mod generator;
 pub mod materials;
 pub mod model;
 pub mod run;
