@@ -103,3 +103,61 @@ fn fe_run_modes_override_and_bad_file() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("units.length = `m`: expected `mm`"), "{err}");
 }
+
+#[test]
+fn fe_mesh_writes_a_model_that_fe_run_reads() {
+    let out = scratch("mesh");
+    let spec = repo().join("configs/specimens/type-c.toml");
+    let model = out.join("type-c.json");
+    ceilfarm_ok(&[
+        "fe",
+        "mesh",
+        spec.to_str().unwrap(),
+        "--set",
+        "A_main=38",
+        "--set",
+        "K_friction=20",
+        "--out",
+        model.to_str().unwrap(),
+    ]);
+    ceilfarm_ok(&[
+        "fe",
+        "run",
+        model.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--modes",
+        "2",
+    ]);
+    let f: Vec<f64> = rows(&out.join("eigen.csv")).iter().map(|r| r[1].parse().unwrap()).collect();
+    // The perf fixture's first two frequencies (perf_results.json).
+    assert!((f[0] - 6.567655664643659).abs() / f[0] < 1e-6, "{f:?}");
+    assert!((f[1] - 6.711438020176514).abs() / f[1] < 1e-6, "{f:?}");
+    let o = ceilfarm(&[
+        "fe",
+        "mesh",
+        spec.to_str().unwrap(),
+        "--set",
+        "K_cc1=800",
+        "--out",
+        model.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("K_cc1"));
+}
+
+#[test]
+fn fe_plot_modes_draws_an_svg() {
+    let models = verification().join("models");
+    let out = scratch("plot");
+    let model = models.join("ceiling_2p4_linear.json");
+    ceilfarm_ok(&["fe", "run", model.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let svg = out.join("modes.svg");
+    ceilfarm_ok(&["fe", "plot-modes", out.to_str().unwrap(), "--out", svg.to_str().unwrap()]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        text.starts_with("<svg") && text.contains("mode 1: 15.145 Hz"),
+        "{}",
+        &text[..200.min(text.len())]
+    );
+}

@@ -14,6 +14,7 @@ pub mod factor;
 pub mod lanczos;
 pub mod modal;
 pub mod output;
+pub mod plot;
 
 pub use dense::dense_eigen;
 pub use lanczos::{shift_invert_lanczos, LanczosSettings};
