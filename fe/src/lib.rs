@@ -5,4 +5,10 @@
 //! solvers assemble and integrate, reporting through observers. Nothing here
 //! knows about the farm or statistics.
 
+pub mod assembly;
+pub mod eigen;
+pub mod elements;
+pub mod generator;
 pub mod materials;
+pub mod model;
+pub mod run;

@@ -1,0 +1,37 @@
+//! A sparse factorization of a symmetric matrix on a [`SparsePattern`]:
+//! Cholesky (faer, AMD ordering) when positive definite, LU otherwise.
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, Lu};
+use faer::{MatMut, Side};
+
+use crate::assembly::SparsePattern;
+
+/// A factorized sparse matrix that solves A x = b in place.
+pub enum SparseFactor {
+    /// LLᵀ of a positive definite matrix.
+    Cholesky(Llt<usize, f64>),
+    /// LU with partial pivoting.
+    Lu(Lu<usize, f64>),
+}
+
+impl SparseFactor {
+    /// Factorizes the matrix with `values` on `pattern`; Cholesky first.
+    pub fn new(pattern: &SparsePattern, values: &[f64]) -> Result<Self, String> {
+        let a = pattern.to_faer(values);
+        match a.sp_cholesky(Side::Lower) {
+            Ok(llt) => Ok(SparseFactor::Cholesky(llt)),
+            Err(_) => a.sp_lu().map(SparseFactor::Lu).map_err(|e| format!("{e:?}")),
+        }
+    }
+
+    /// Overwrites `x` (length n) with A⁻¹ x.
+    pub fn solve_in_place(&self, x: &mut [f64]) {
+        let n = x.len();
+        let m = MatMut::from_column_major_slice_mut(x, n, 1);
+        match self {
+            SparseFactor::Cholesky(f) => f.solve_in_place(m),
+            SparseFactor::Lu(f) => f.solve_in_place(m),
+        }
+    }
+}

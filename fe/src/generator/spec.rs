@@ -1,0 +1,168 @@
+//! The specimen as built: the `[structure]` table of the measured-data bundle
+//! (`shared/spec/measured-bundle.md`; metres, kg, mm as named) plus an
+//! optional `[model]` table choosing linear or nonlinear perimeter springs.
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+/// Perimeter condition of the grid (seed Table 4.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Boundary {
+    /// Grid ends clipped to the wall angle, sliding along their own axis.
+    SemiFree,
+}
+
+/// Which perimeter springs to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Variant {
+    /// Elastic along-axis friction spring (K_friction).
+    #[default]
+    Linear,
+    /// Steel01 friction (2 N, K_friction, b 0.05) plus the eq. 5.4 gap.
+    Nonlinear,
+}
+
+/// The `[structure]` table (nominal values).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Structure {
+    /// Plan size along x (m), a multiple of `module_m`.
+    pub length_x_m: f64,
+    /// Plan size along y (m), a multiple of `module_m`.
+    pub length_y_m: f64,
+    /// Panel size / cross-tee spacing (m).
+    pub module_m: f64,
+    /// Main-tee spacing (m), a multiple of `module_m`.
+    pub main_tee_spacing_m: f64,
+    /// Hanger rod spacing on the main tees (m).
+    pub hanger_spacing_m: f64,
+    /// Hanger rod length (m).
+    pub hanger_length_m: f64,
+    /// Mass of one lay-in panel (kg).
+    pub panel_mass_kg: f64,
+    /// 1 or 2 (2: carrying channels above the grid).
+    #[serde(default = "two")]
+    pub layers: u8,
+    /// Perimeter condition.
+    pub boundary: Boundary,
+    /// Grid end to wall angle (mm).
+    pub nominal_gap_mm: f64,
+}
+
+fn two() -> u8 {
+    2
+}
+
+/// The `[model]` table.
+#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct ModelOptions {
+    /// Linear or nonlinear perimeter springs.
+    #[serde(default)]
+    pub variant: Variant,
+}
+
+/// A specimen file: `[structure]` plus optional `[model]`; other tables of a
+/// bundle (`sensors`, `runs`, ...) are ignored.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct CeilingSpec {
+    /// The structure as built.
+    pub structure: Structure,
+    /// Model choices.
+    #[serde(default)]
+    pub model: ModelOptions,
+}
+
+/// Why a specimen file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum SpecError {
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// TOML syntax or a key of the wrong type.
+    #[error("{path}: {message}")]
+    Toml {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message.
+        message: String,
+    },
+    /// A value out of range.
+    #[error("structure.{key} = {value}: {expected}")]
+    Value {
+        /// The key.
+        key: &'static str,
+        /// Its value.
+        value: f64,
+        /// What was expected.
+        expected: &'static str,
+    },
+}
+
+impl CeilingSpec {
+    /// Reads and checks a specimen TOML file.
+    pub fn from_toml_file(path: &Path) -> Result<Self, SpecError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| SpecError::Io { path: path.to_path_buf(), source })?;
+        let spec: CeilingSpec = toml::from_str(&text)
+            .map_err(|e| SpecError::Toml { path: path.to_path_buf(), message: e.to_string() })?;
+        spec.check()?;
+        Ok(spec)
+    }
+
+    /// Checks sizes are positive and on the module.
+    pub fn check(&self) -> Result<(), SpecError> {
+        let s = &self.structure;
+        let positive = [
+            ("length_x_m", s.length_x_m),
+            ("length_y_m", s.length_y_m),
+            ("module_m", s.module_m),
+            ("main_tee_spacing_m", s.main_tee_spacing_m),
+            ("hanger_spacing_m", s.hanger_spacing_m),
+            ("hanger_length_m", s.hanger_length_m),
+            ("panel_mass_kg", s.panel_mass_kg),
+        ];
+        for (key, value) in positive {
+            if !(value > 0.0 && value.is_finite()) {
+                return Err(SpecError::Value { key, value, expected: "expected > 0" });
+            }
+        }
+        let on_module = [
+            ("length_x_m", s.length_x_m),
+            ("length_y_m", s.length_y_m),
+            ("main_tee_spacing_m", s.main_tee_spacing_m),
+            ("hanger_spacing_m", s.hanger_spacing_m),
+        ];
+        for (key, value) in on_module {
+            let r = value / s.module_m;
+            if (r - r.round()).abs() > 1e-9 || r.round() < 1.0 {
+                return Err(SpecError::Value {
+                    key,
+                    value,
+                    expected: "expected a multiple of module_m",
+                });
+            }
+        }
+        if !(1..=2).contains(&s.layers) {
+            let value = f64::from(s.layers);
+            return Err(SpecError::Value { key: "layers", value, expected: "expected 1 or 2" });
+        }
+        if !(s.nominal_gap_mm >= 0.0) {
+            let value = s.nominal_gap_mm;
+            return Err(SpecError::Value {
+                key: "nominal_gap_mm",
+                value,
+                expected: "expected >= 0",
+            });
+        }
+        Ok(())
+    }
+}
