@@ -50,6 +50,9 @@ pub struct FitArgs {
     /// Seed of the start set.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
+    /// One kernel shared by all outputs (rows complete in every output).
+    #[arg(long)]
+    pub shared_kernel: bool,
 }
 
 /// Arguments of `ceilfarm gp predict`.
@@ -224,14 +227,25 @@ fn fit_cmd(a: FitArgs) -> anyhow::Result<()> {
         .with_context(|| format!("--mean {}: expected zero, constant or linear", a.mean))?;
     let d = inputs.len();
     let xall = table.select(&inputs, &source)?;
+    let yalls = a
+        .outputs
+        .iter()
+        .map(|name| table.select(std::slice::from_ref(name), &source))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let complete = |i: usize, outs: &[&Vec<f64>]| {
+        outs.iter().all(|y| y[i].is_finite())
+            && xall[i * d..(i + 1) * d].iter().all(|v| v.is_finite())
+    };
+    let rows_of = |outs: &[&Vec<f64>]| -> Vec<usize> {
+        (0..table.rows.len()).filter(|&i| complete(i, outs)).collect()
+    };
     let mut cols = Vec::new();
-    for name in &a.outputs {
-        let yall = table.select(std::slice::from_ref(name), &source)?;
-        let keep: Vec<usize> = (0..yall.len())
-            .filter(|&i| {
-                yall[i].is_finite() && xall[i * d..(i + 1) * d].iter().all(|v| v.is_finite())
-            })
-            .collect();
+    for (name, yall) in a.outputs.iter().zip(&yalls) {
+        let keep = if a.shared_kernel {
+            rows_of(&yalls.iter().collect::<Vec<_>>())
+        } else {
+            rows_of(&[yall])
+        };
         if keep.len() < 2 {
             bail!(
                 "{}: output {name}: {} complete rows, need at least 2",
@@ -243,25 +257,12 @@ fn fit_cmd(a: FitArgs) -> anyhow::Result<()> {
         let y: Vec<f64> = keep.iter().map(|&i| yall[i]).collect();
         cols.push((name.clone(), x, y));
     }
-    let threads = if cols.len() > 1 { 1 } else { 0 };
-    let base =
-        GpSettings { mean, restarts: a.restarts, seed: a.seed, threads, ..Default::default() };
-    let fitted: Vec<anyhow::Result<OutputModel>> = std::thread::scope(|s| {
-        let handles: Vec<_> = cols
-            .iter()
-            .map(|(name, x, y)| {
-                let base = &base;
-                let kernel = &a.kernel;
-                s.spawn(move || {
-                    let (gp, kernel_lml) = fit_output(x, d, y, kernel, base)
-                        .with_context(|| format!("output {name}"))?;
-                    Ok(OutputModel { name: name.clone(), kernel_lml, gp: gp.model })
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().expect("fit thread")).collect()
-    });
-    let outputs = fitted.into_iter().collect::<anyhow::Result<Vec<_>>>()?;
+    let base = GpSettings { mean, restarts: a.restarts, seed: a.seed, ..Default::default() };
+    let outputs = if a.shared_kernel {
+        fit_all_shared(&cols, d, &a.kernel, &base)?
+    } else {
+        fit_all(&cols, d, &a.kernel, &base)?
+    };
     let (x0, y0) = (&cols[0].1, &cols[0].2);
     let file = ModelFile {
         format: MODEL_FORMAT.into(),
@@ -287,6 +288,74 @@ fn fit_cmd(a: FitArgs) -> anyhow::Result<()> {
     let text = serde_json::to_string_pretty(&file)?;
     std::fs::write(&a.out, text).with_context(|| format!("{}: cannot write", a.out.display()))?;
     Ok(())
+}
+
+type Column = (String, Vec<f64>, Vec<f64>);
+
+/// Independent GPs, one per output, fitted in parallel threads.
+fn fit_all(
+    cols: &[Column],
+    d: usize,
+    kernel: &str,
+    base: &GpSettings,
+) -> anyhow::Result<Vec<OutputModel>> {
+    let base = &GpSettings { threads: if cols.len() > 1 { 1 } else { 0 }, ..base.clone() };
+    let fitted: Vec<anyhow::Result<OutputModel>> = std::thread::scope(|s| {
+        let handles: Vec<_> = cols
+            .iter()
+            .map(|(name, x, y)| {
+                s.spawn(move || {
+                    let (gp, kernel_lml) = fit_output(x, d, y, kernel, base)
+                        .with_context(|| format!("output {name}"))?;
+                    Ok(OutputModel { name: name.clone(), kernel_lml, gp: gp.model })
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().expect("fit thread")).collect()
+    });
+    fitted.into_iter().collect()
+}
+
+/// One kernel shared by every output (or, for `auto`, the family with the
+/// highest summed LML).
+fn fit_all_shared(
+    cols: &[Column],
+    d: usize,
+    kernel: &str,
+    base: &GpSettings,
+) -> anyhow::Result<Vec<OutputModel>> {
+    let kinds: Vec<KernelKind> = if kernel == "auto" {
+        KernelKind::ALL.to_vec()
+    } else {
+        vec![KernelKind::parse(kernel).with_context(|| {
+            format!("--kernel {kernel}: expected se, matern32, matern52, rq or auto")
+        })?]
+    };
+    let ys: Vec<Vec<f64>> = cols.iter().map(|c| c.2.clone()).collect();
+    let mut best: Option<Vec<Gp>> = None;
+    let mut report = Vec::new();
+    for kind in kinds {
+        let set = GpSettings { kernel: kind, ..base.clone() };
+        match stats::gp::fit_shared(&cols[0].1, d, &ys, None, &set) {
+            Ok(gps) => {
+                let lml = gps[0].model.report.lml;
+                report.push((kind.name().to_string(), Some(lml)));
+                if best.as_ref().is_none_or(|b| lml > b[0].model.report.lml) {
+                    best = Some(gps);
+                }
+            }
+            Err(e) => {
+                tracing::warn!("kernel {}: {e}", kind.name());
+                report.push((kind.name().to_string(), None));
+            }
+        }
+    }
+    let gps = best.context("no kernel could be fitted")?;
+    Ok(cols
+        .iter()
+        .zip(gps)
+        .map(|(c, g)| OutputModel { name: c.0.clone(), kernel_lml: report.clone(), gp: g.model })
+        .collect())
 }
 
 /// Load a model file and factor each output's GP.

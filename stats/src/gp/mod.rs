@@ -28,7 +28,7 @@ pub mod pca;
 pub mod scaling;
 
 pub use error::GpError;
-pub use fit::{fit, GpSettings};
+pub use fit::{fit, fit_shared, GpSettings};
 pub use kernel::{Kernel, KernelKind};
 pub use mean::MeanKind;
 pub use model::{FitReport, Gp, GpModel, Prediction};
