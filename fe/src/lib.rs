@@ -10,3 +10,4 @@ pub mod eigen;
 pub mod elements;
 pub mod materials;
 pub mod model;
+pub mod transient;
