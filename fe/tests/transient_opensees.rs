@@ -2,7 +2,7 @@
 //! the 2.4 m grid with friction and gap springs under the 20 s sine sweep at
 //! 0.02 g (stays stuck) and 0.5 g (slips and pounds). Every recorded channel:
 //! peak within 1 % and NRMSE (RMS error / reference peak) below 1 %. Channels
-//! that are zero by symmetry in the reference (peak below 1e-9 of the largest
+//! that are zero in the reference (by symmetry, or a gap that stays open) (peak below 1e-9 of the largest
 //! peak of the same kind) must be as small in ours. At 0.5 g the closures of
 //! the x-wall gap springs are counted too.
 
@@ -52,7 +52,7 @@ fn compare(ours: &History, header: &[String], rows: &[Vec<f64>]) -> (Vec<String>
             let pass = po <= floor.max(1e-12);
             ok &= pass;
             lines.push(format!(
-                "{name:40} zero by symmetry: ours {po:.2e} (floor {floor:.2e}) {}",
+                "{name:40} zero in the reference: ours {po:.2e} (floor {floor:.2e}) {}",
                 if pass { "ok" } else { "FAIL" }
             ));
             continue;
@@ -64,9 +64,7 @@ fn compare(ours: &History, header: &[String], rows: &[Vec<f64>]) -> (Vec<String>
         let pass = perr < 0.01 && nrmse < 0.01;
         ok &= pass;
         lines.push(format!(
-            "{name:40} peak {pr:.5e} ours {po:.5e} err {:.4}% nrmse {:.4}% {}",
-            100.0 * perr,
-            100.0 * nrmse,
+            "{name:40} peak {pr:.5e} ours {po:.5e} peak err {perr:.2e} nrmse {nrmse:.2e} {}",
             if pass { "ok" } else { "FAIL" }
         ));
     }
@@ -108,7 +106,6 @@ fn sweep_0p02g_matches_opensees() {
 fn sweep_0p50g_matches_opensees_with_the_same_gap_closures() {
     let dir = verification_dir().join("models");
     let model = read_model(&dir.join("ceiling_2p4_nonlinear_sweep_0p50g.json")).unwrap();
-    let lx = model.nodes.iter().map(|n| n.xyz_mm[0]).fold(0.0f64, f64::max);
     let gap_ids: Vec<u64> = model
         .springs
         .iter()
@@ -119,7 +116,6 @@ fn sweep_0p50g_matches_opensees_with_the_same_gap_closures() {
         })
         .map(|s| s.id)
         .collect();
-    let _ = lx;
     let extra: Vec<serde_json::Value> = gap_ids
         .iter()
         .map(|id| serde_json::json!({"name": format!("gap_{id}_force_N"), "element": id, "response": "force"}))
