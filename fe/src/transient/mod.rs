@@ -9,6 +9,7 @@
 //! Units: N, mm, s, t; accelerations mm/s².
 
 pub mod excitation;
+pub mod factor_cache;
 pub mod history;
 pub mod newmark;
 pub mod newton;

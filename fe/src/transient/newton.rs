@@ -7,6 +7,7 @@
 //! Equation of motion relative to the base: M ü + C u̇ + F_int(u) = −M r a_g.
 //! Units: N, mm, s, t.
 
+use super::factor_cache::FactorCache;
 use super::newmark::NewmarkConstants;
 use super::springs::{SpringFailure, SpringStates};
 use crate::assembly::Structure;
@@ -98,6 +99,7 @@ pub struct Dynamics<'a> {
     base_eff: Vec<f64>,
     factored_tangents: Option<Vec<f64>>,
     factor: Option<SparseFactor>,
+    cache: FactorCache,
     /// Number of factorizations done.
     pub factorizations: usize,
     work: Vec<f64>,
@@ -128,6 +130,7 @@ impl<'a> Dynamics<'a> {
             base_eff: Vec::new(),
             factored_tangents: None,
             factor: None,
+            cache: FactorCache::new(&s.pattern),
             factorizations: 0,
             work: vec![0.0; n],
             work2: vec![0.0; n],
@@ -166,7 +169,9 @@ impl<'a> Dynamics<'a> {
         }
         let mut values = self.base_eff.clone();
         self.s.add_spring_tangents(&mut values, tangents);
-        let f = SparseFactor::new(&self.s.pattern, &values)
+        let f = self
+            .cache
+            .factor(&self.s.pattern, &values)
             .map_err(|message| NewtonFailure::Singular { message })?;
         self.factor = Some(f);
         self.factored_tangents = Some(tangents.to_vec());
