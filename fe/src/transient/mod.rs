@@ -11,6 +11,7 @@
 pub mod excitation;
 pub mod factor_cache;
 pub mod history;
+pub mod low_rank;
 pub mod newmark;
 pub mod newton;
 pub mod recorders;

@@ -8,6 +8,7 @@
 //! Units: N, mm, s, t.
 
 use super::factor_cache::FactorCache;
+use super::low_rank::{LowRankUpdate, SpringEqs};
 use super::newmark::NewmarkConstants;
 use super::springs::{SpringFailure, SpringStates};
 use crate::assembly::Structure;
@@ -88,6 +89,10 @@ impl std::fmt::Display for NewtonFailure {
     }
 }
 
+/// Most springs whose tangent may differ from the factored one before a
+/// full refactorization.
+const MAX_RANK: usize = 24;
+
 /// The constant parts of the dynamic system and the factorization cache.
 pub struct Dynamics<'a> {
     s: &'a Structure,
@@ -100,6 +105,9 @@ pub struct Dynamics<'a> {
     factored_tangents: Option<Vec<f64>>,
     factor: Option<SparseFactor>,
     cache: FactorCache,
+    low_rank: LowRankUpdate,
+    spring_eqs: Vec<SpringEqs>,
+    changes: Vec<(usize, f64)>,
     /// Number of factorizations done.
     pub factorizations: usize,
     work: Vec<f64>,
@@ -131,6 +139,9 @@ impl<'a> Dynamics<'a> {
             factored_tangents: None,
             factor: None,
             cache: FactorCache::new(&s.pattern),
+            low_rank: LowRankUpdate::default(),
+            spring_eqs: s.springs.iter().map(|sp| sp.eqs).collect(),
+            changes: Vec::new(),
             factorizations: 0,
             work: vec![0.0; n],
             work2: vec![0.0; n],
@@ -162,10 +173,22 @@ impl<'a> Dynamics<'a> {
             self.base_dt_s = nm.dt_s;
             self.factor = None;
         }
-        let same = self.factor.is_some()
-            && self.factored_tangents.as_deref().is_some_and(|t| t == tangents);
-        if same {
-            return Ok(());
+        if let (Some(base), Some(t0)) = (&self.factor, &self.factored_tangents) {
+            self.changes.clear();
+            for (k, (a, b)) in tangents.iter().zip(t0).enumerate() {
+                if a != b && self.spring_eqs[k].iter().any(Option::is_some) {
+                    self.changes.push((k, a - b));
+                }
+            }
+            if self.low_rank.is(&self.changes) {
+                return Ok(());
+            }
+            if self.changes.len() <= MAX_RANK {
+                let n = self.s.pattern.n;
+                if self.low_rank.set(base, &self.spring_eqs, n, &self.changes) {
+                    return Ok(());
+                }
+            }
         }
         let mut values = self.base_eff.clone();
         self.s.add_spring_tangents(&mut values, tangents);
@@ -175,6 +198,7 @@ impl<'a> Dynamics<'a> {
             .map_err(|message| NewtonFailure::Singular { message })?;
         self.factor = Some(f);
         self.factored_tangents = Some(tangents.to_vec());
+        self.low_rank.reset();
         self.factorizations += 1;
         Ok(())
     }
@@ -233,6 +257,7 @@ impl<'a> Dynamics<'a> {
             self.ensure_factor(nm, &springs.tangent_n_mm)?;
             if let Some(f) = &self.factor {
                 f.solve_in_place(&mut r);
+                self.low_rank.correct(&self.spring_eqs, &mut r);
             }
             let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
             if !norm.is_finite() {

@@ -1,0 +1,107 @@
+//! Exact low-rank correction of a factorized tangent (Sherman–Morrison–
+//! Woodbury): when a few springs change tangent by δ_k, the new matrix is
+//! A = K₀ + W D Wᵀ with w_k = e_j − e_i on the spring's two equations and
+//! D = diag(δ_k), and
+//!
+//! A⁻¹ b = y − Z (I + D Wᵀ Z)⁻¹ D Wᵀ y,  y = K₀⁻¹ b,  Z = K₀⁻¹ W.
+//!
+//! The columns z_k are cached per spring for the life of the base factor.
+//! Units: those of the matrix (N/mm) and of b.
+
+use std::collections::HashMap;
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::eigen::factor::SparseFactor;
+
+/// Equations of a spring's two nodes in its DOF.
+pub type SpringEqs = [Option<usize>; 2];
+
+/// wᵀ x for w = e_j − e_i.
+#[inline]
+fn w_dot(eqs: &SpringEqs, x: &[f64]) -> f64 {
+    eqs[1].map_or(0.0, |e| x[e]) - eqs[0].map_or(0.0, |e| x[e])
+}
+
+/// The active correction: springs, their δ, cached columns, capacitance LU.
+#[derive(Default)]
+pub struct LowRankUpdate {
+    columns: HashMap<usize, Vec<f64>>,
+    active: Vec<(usize, f64)>,
+    capacitance: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+}
+
+impl LowRankUpdate {
+    /// Forgets everything (a new base factor).
+    pub fn reset(&mut self) {
+        self.columns.clear();
+        self.active.clear();
+        self.capacitance = None;
+    }
+
+    /// Rank of the active correction.
+    pub fn rank(&self) -> usize {
+        self.active.len()
+    }
+
+    /// Whether the active correction is exactly `changes` (spring, δ).
+    pub fn is(&self, changes: &[(usize, f64)]) -> bool {
+        self.active == changes
+    }
+
+    /// Sets the correction to `changes`; `false` if the capacitance is singular.
+    pub fn set(
+        &mut self,
+        base: &SparseFactor,
+        eqs: &[SpringEqs],
+        n: usize,
+        changes: &[(usize, f64)],
+    ) -> bool {
+        for (k, _) in changes {
+            self.columns.entry(*k).or_insert_with(|| {
+                let mut z = vec![0.0; n];
+                if let Some(e) = eqs[*k][1] {
+                    z[e] += 1.0;
+                }
+                if let Some(e) = eqs[*k][0] {
+                    z[e] -= 1.0;
+                }
+                base.solve_in_place(&mut z);
+                z
+            });
+        }
+        let r = changes.len();
+        let mut s = DMatrix::<f64>::identity(r, r);
+        for (a, (ka, da)) in changes.iter().enumerate() {
+            for (b, (kb, _)) in changes.iter().enumerate() {
+                s[(a, b)] += da * w_dot(&eqs[*ka], &self.columns[kb]);
+            }
+        }
+        let lu = s.lu();
+        let ok = lu.determinant().is_normal();
+        self.active.clear();
+        self.capacitance = None;
+        if ok {
+            self.active.extend_from_slice(changes);
+            self.capacitance = Some(lu);
+        }
+        ok
+    }
+
+    /// Overwrites `x` (already K₀⁻¹ b) with A⁻¹ b.
+    pub fn correct(&self, eqs: &[SpringEqs], x: &mut [f64]) {
+        let Some(lu) = &self.capacitance else { return };
+        if self.active.is_empty() {
+            return;
+        }
+        let t = DVector::from_iterator(
+            self.active.len(),
+            self.active.iter().map(|(k, d)| d * w_dot(&eqs[*k], x)),
+        );
+        let Some(s) = lu.solve(&t) else { return };
+        for ((k, _), sk) in self.active.iter().zip(s.iter()) {
+            let z = &self.columns[k];
+            x.iter_mut().zip(z).for_each(|(xi, zi)| *xi -= sk * zi);
+        }
+    }
+}
