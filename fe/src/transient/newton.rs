@@ -111,7 +111,6 @@ pub struct Dynamics<'a> {
     /// Number of factorizations done.
     pub factorizations: usize,
     work: Vec<f64>,
-    work2: Vec<f64>,
 }
 
 impl<'a> Dynamics<'a> {
@@ -144,7 +143,6 @@ impl<'a> Dynamics<'a> {
             changes: Vec::new(),
             factorizations: 0,
             work: vec![0.0; n],
-            work2: vec![0.0; n],
         }
     }
 
@@ -203,7 +201,8 @@ impl<'a> Dynamics<'a> {
         Ok(())
     }
 
-    /// Residual R = −M r a_g − M a − C v − K_beam u − F_springs into `out`.
+    /// Residual R = −M r a_g − M a − C v − K_beam u − F_springs into `out`
+    /// (one pass over the pattern for K_beam u + C v).
     fn residual(
         &mut self,
         trial: &Kinematics,
@@ -213,10 +212,15 @@ impl<'a> Dynamics<'a> {
         out: &mut [f64],
     ) {
         let p = &self.s.pattern;
-        p.mul_vec(&self.s.beam_values, &trial.u, &mut self.work);
-        p.mul_vec(&self.c_values, &trial.v, &mut self.work2);
+        let (kb, cv) = (&self.s.beam_values, &self.c_values);
         for k in 0..out.len() {
-            out[k] = -load[k] * ag - self.s.mass[k] * trial.a[k] - self.work[k] - self.work2[k];
+            out[k] = -load[k] * ag - self.s.mass[k] * trial.a[k];
+        }
+        for c in 0..p.n {
+            let (uc, vc) = (trial.u[c], trial.v[c]);
+            for q in p.col_ptr[c]..p.col_ptr[c + 1] {
+                out[p.row_idx[q]] -= kb[q] * uc + cv[q] * vc;
+            }
         }
         let mut fs = std::mem::take(&mut self.work);
         fs.iter_mut().for_each(|x| *x = 0.0);
