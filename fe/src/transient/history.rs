@@ -33,11 +33,23 @@ pub fn write_history<W: Write>(h: &History, out: &mut W) -> std::io::Result<()> 
             if k > 0 {
                 line.push(',');
             }
-            line.push_str(&format!("{v}"));
+            push_number(&mut line, *v);
         }
         writeln!(out, "{line}")?;
     }
     Ok(())
+}
+
+/// Shortest round-trip text of a number, in scientific notation when very
+/// small or large (a plain decimal otherwise).
+fn push_number(line: &mut String, v: f64) {
+    use std::fmt::Write as _;
+    let a = v.abs();
+    let _ = if a == 0.0 || (1e-4..1e15).contains(&a) {
+        write!(line, "{v}")
+    } else {
+        write!(line, "{v:e}")
+    };
 }
 
 /// Writes a history to a CSV file (`history.csv` by convention).
@@ -62,9 +74,6 @@ mod tests {
         };
         let mut out = Vec::new();
         write_history(&h, &mut out).unwrap();
-        assert_eq!(
-            String::from_utf8(out).unwrap(),
-            "t_s,ag_mm_s2,x\n0,0,0\n0.002,1.5,-0.0000002\n"
-        );
+        assert_eq!(String::from_utf8(out).unwrap(), "t_s,ag_mm_s2,x\n0,0,0\n0.002,1.5,-2e-7\n");
     }
 }
