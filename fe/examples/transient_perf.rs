@@ -2,6 +2,11 @@
 //! per step, Newton iterations and factorizations.
 //!
 //! `cargo run --release -p ceilfarm-fe --example transient_perf -- MODEL.json [N_STEPS] [OUT.csv]`
+//!
+//! On `perf/ceiling_typeC_nonlinear.json` (2748 free DOF, 10000 steps) the
+//! release build took 14.2 s CPU (1.42 ms per step, 22688 Newton iterations,
+//! 172 factorizations) on the 2-core reference machine, against 565-830 s
+//! CPU for OpenSees (`perf_results.json`).
 
 use std::path::Path;
 use std::time::Instant;
