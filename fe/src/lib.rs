@@ -12,3 +12,4 @@ pub mod generator;
 pub mod materials;
 pub mod model;
 pub mod run;
+pub mod transient;

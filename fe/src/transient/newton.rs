@@ -1,0 +1,287 @@
+//! One Newmark step solved by Newton iterations on the sparse effective
+//! tangent K_eff = K_t + γ/(βΔt) C + 1/(βΔt²) M, converged when the 2-norm
+//! of the displacement increment over the free DOFs falls below a tolerance
+//! (OpenSees `test NormDispIncr`). The factorization is kept and reused while
+//! the step size and every spring tangent are unchanged.
+//!
+//! Equation of motion relative to the base: M ü + C u̇ + F_int(u) = −M r a_g.
+//! Units: N, mm, s, t.
+
+use super::factor_cache::FactorCache;
+use super::low_rank::{LowRankUpdate, SpringEqs};
+use super::newmark::NewmarkConstants;
+use super::springs::{SpringFailure, SpringStates};
+use crate::assembly::Structure;
+use crate::eigen::factor::SparseFactor;
+
+/// Displacement, velocity and acceleration relative to the base (free DOFs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Kinematics {
+    /// Displacements (mm, rad).
+    pub u: Vec<f64>,
+    /// Velocities (mm/s, rad/s).
+    pub v: Vec<f64>,
+    /// Accelerations (mm/s², rad/s²).
+    pub a: Vec<f64>,
+}
+
+impl Kinematics {
+    /// At rest and undeformed.
+    pub fn zeros(n: usize) -> Self {
+        Kinematics { u: vec![0.0; n], v: vec![0.0; n], a: vec![0.0; n] }
+    }
+}
+
+/// Newton settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonSettings {
+    /// Converged when ‖Δu‖₂ < this (mm).
+    pub tol_mm: f64,
+    /// Iterations before giving up.
+    pub max_iter: usize,
+}
+
+impl Default for NewtonSettings {
+    /// The fixtures' settings: 1e-10 mm, 50 iterations.
+    fn default() -> Self {
+        NewtonSettings { tol_mm: 1e-10, max_iter: 50 }
+    }
+}
+
+/// Why a Newton step failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NewtonFailure {
+    /// No convergence within the allowed iterations.
+    MaxIterations {
+        /// Iterations done.
+        iterations: usize,
+        /// Last ‖Δu‖₂ (mm).
+        last_norm_mm: f64,
+    },
+    /// The increment became NaN or infinite (singular or unstable tangent).
+    NonFinite {
+        /// Iteration at which it happened.
+        iteration: usize,
+    },
+    /// The effective tangent could not be factorized.
+    Singular {
+        /// The factorization's complaint.
+        message: String,
+    },
+    /// A spring material refused its trial deformation.
+    Material(SpringFailure),
+}
+
+impl std::fmt::Display for NewtonFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NewtonFailure::MaxIterations { iterations, last_norm_mm } => {
+                write!(f, "no convergence in {iterations} Newton iterations (|du| = {last_norm_mm:.3e} mm)")
+            }
+            NewtonFailure::NonFinite { iteration } => {
+                write!(f, "non-finite displacement increment at Newton iteration {iteration}")
+            }
+            NewtonFailure::Singular { message } => {
+                write!(f, "singular effective tangent: {message}")
+            }
+            NewtonFailure::Material(m) => write!(f, "spring {}: {}", m.spring, m.error),
+        }
+    }
+}
+
+/// Most springs whose tangent may differ from the factored one before a
+/// full refactorization.
+const MAX_RANK: usize = 24;
+
+/// The constant parts of the dynamic system and the factorization cache.
+pub struct Dynamics<'a> {
+    s: &'a Structure,
+    /// Damping C = αM + βK_R on the pattern.
+    c_values: Vec<f64>,
+    diag: Vec<usize>,
+    /// Step of the cached beam + mass + damping part.
+    base_dt_s: f64,
+    base_eff: Vec<f64>,
+    factored_tangents: Option<Vec<f64>>,
+    factor: Option<SparseFactor>,
+    cache: FactorCache,
+    low_rank: LowRankUpdate,
+    spring_eqs: Vec<SpringEqs>,
+    changes: Vec<(usize, f64)>,
+    /// Number of factorizations done.
+    pub factorizations: usize,
+    work: Vec<f64>,
+}
+
+impl<'a> Dynamics<'a> {
+    /// The system of a structure with Rayleigh coefficients α (1/s) and β (s).
+    pub fn new(s: &'a Structure, alpha_m_per_s: f64, beta_k_s: f64) -> Self {
+        let diag = s.diagonal_positions();
+        let mut kr = s.beam_values.clone();
+        let k0: Vec<f64> = s
+            .springs
+            .iter()
+            .map(|sp| if sp.rayleigh { sp.material.initial_tangent() } else { 0.0 })
+            .collect();
+        s.add_spring_tangents(&mut kr, &k0);
+        let mut c_values: Vec<f64> = kr.iter().map(|k| beta_k_s * k).collect();
+        for (eq, m) in s.mass.iter().enumerate() {
+            c_values[diag[eq]] += alpha_m_per_s * m;
+        }
+        let n = s.pattern.n;
+        Dynamics {
+            s,
+            c_values,
+            diag,
+            base_dt_s: f64::NAN,
+            base_eff: Vec::new(),
+            factored_tangents: None,
+            factor: None,
+            cache: FactorCache::new(&s.pattern),
+            low_rank: LowRankUpdate::default(),
+            spring_eqs: s.springs.iter().map(|sp| sp.eqs).collect(),
+            changes: Vec::new(),
+            factorizations: 0,
+            work: vec![0.0; n],
+        }
+    }
+
+    /// The structure.
+    pub fn structure(&self) -> &Structure {
+        self.s
+    }
+
+    /// Makes sure the factor matches step `nm` and the current spring tangents.
+    fn ensure_factor(
+        &mut self,
+        nm: &NewmarkConstants,
+        tangents: &[f64],
+    ) -> Result<(), NewtonFailure> {
+        if self.base_dt_s != nm.dt_s {
+            self.base_eff = self
+                .s
+                .beam_values
+                .iter()
+                .zip(&self.c_values)
+                .map(|(k, c)| k + nm.c_damp * c)
+                .collect();
+            for (eq, m) in self.s.mass.iter().enumerate() {
+                self.base_eff[self.diag[eq]] += nm.c_mass * m;
+            }
+            self.base_dt_s = nm.dt_s;
+            self.factor = None;
+        }
+        if let (Some(base), Some(t0)) = (&self.factor, &self.factored_tangents) {
+            self.changes.clear();
+            for (k, (a, b)) in tangents.iter().zip(t0).enumerate() {
+                if a != b && self.spring_eqs[k].iter().any(Option::is_some) {
+                    self.changes.push((k, a - b));
+                }
+            }
+            if self.low_rank.is(&self.changes) {
+                return Ok(());
+            }
+            if self.changes.len() <= MAX_RANK {
+                let n = self.s.pattern.n;
+                if self.low_rank.set(base, &self.spring_eqs, n, &self.changes) {
+                    return Ok(());
+                }
+            }
+        }
+        let mut values = self.base_eff.clone();
+        self.s.add_spring_tangents(&mut values, tangents);
+        let f = self
+            .cache
+            .factor(&self.s.pattern, &values)
+            .map_err(|message| NewtonFailure::Singular { message })?;
+        self.factor = Some(f);
+        self.factored_tangents = Some(tangents.to_vec());
+        self.low_rank.reset();
+        self.factorizations += 1;
+        Ok(())
+    }
+
+    /// Residual R = −M r a_g − M a − C v − K_beam u − F_springs into `out`
+    /// (one pass over the pattern for K_beam u + C v).
+    fn residual(
+        &mut self,
+        trial: &Kinematics,
+        springs: &SpringStates,
+        load: &[f64],
+        ag: f64,
+        out: &mut [f64],
+    ) {
+        let p = &self.s.pattern;
+        let (kb, cv) = (&self.s.beam_values, &self.c_values);
+        for k in 0..out.len() {
+            out[k] = -load[k] * ag - self.s.mass[k] * trial.a[k];
+        }
+        for c in 0..p.n {
+            let (uc, vc) = (trial.u[c], trial.v[c]);
+            for q in p.col_ptr[c]..p.col_ptr[c + 1] {
+                out[p.row_idx[q]] -= kb[q] * uc + cv[q] * vc;
+            }
+        }
+        let mut fs = std::mem::take(&mut self.work);
+        fs.iter_mut().for_each(|x| *x = 0.0);
+        springs.add_forces(self.s, &mut fs);
+        for k in 0..out.len() {
+            out[k] -= fs[k];
+        }
+        self.work = fs;
+    }
+
+    /// Solves one step from `committed` to a converged `trial`; returns the
+    /// number of iterations. `load` is M r (t per DOF), `ag` a_g at the step end.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_step(
+        &mut self,
+        nm: &NewmarkConstants,
+        committed: &Kinematics,
+        trial: &mut Kinematics,
+        springs: &mut SpringStates,
+        load: &[f64],
+        ag: f64,
+        settings: &NewtonSettings,
+    ) -> Result<usize, NewtonFailure> {
+        trial.u.clone_from(&committed.u);
+        let mut r = vec![0.0; committed.u.len()];
+        let mut last = f64::NAN;
+        for it in 1..=settings.max_iter {
+            springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
+            nm.update_all(
+                &trial.u,
+                &committed.u,
+                &committed.v,
+                &committed.a,
+                &mut trial.v,
+                &mut trial.a,
+            );
+            self.residual(trial, springs, load, ag, &mut r);
+            self.ensure_factor(nm, &springs.tangent_n_mm)?;
+            if let Some(f) = &self.factor {
+                f.solve_in_place(&mut r);
+                self.low_rank.correct(&self.spring_eqs, &mut r);
+            }
+            let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if !norm.is_finite() {
+                return Err(NewtonFailure::NonFinite { iteration: it });
+            }
+            trial.u.iter_mut().zip(&r).for_each(|(u, d)| *u += d);
+            last = norm;
+            if norm < settings.tol_mm {
+                springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
+                nm.update_all(
+                    &trial.u,
+                    &committed.u,
+                    &committed.v,
+                    &committed.a,
+                    &mut trial.v,
+                    &mut trial.a,
+                );
+                return Ok(it);
+            }
+        }
+        Err(NewtonFailure::MaxIterations { iterations: settings.max_iter, last_norm_mm: last })
+    }
+}
