@@ -29,6 +29,8 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn main() {
+    // One thread: CPU time then equals the work done, as on a farm worker.
+    faer::set_global_parallelism(faer::Par::Seq);
     let args: Vec<String> = std::env::args().skip(1).collect();
     let path = PathBuf::from(args.first().expect("MODEL.json"));
     let opt = |name: &str, default: usize| {
