@@ -89,11 +89,16 @@ fn fe_run_modes_override_and_bad_file() {
         "3",
     ]);
     assert_eq!(rows(&out.join("eigen.csv")).len(), 3);
-    // Without --modes a transient file is refused with the reason.
-    let o = ceilfarm(&["fe", "run", model.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    // A file with no analysis block is refused with the reason.
+    let text = std::fs::read_to_string(&model).unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    json.as_object_mut().unwrap().remove("analysis");
+    let none = out.join("none.json");
+    std::fs::write(&none, json.to_string()).unwrap();
+    let o = ceilfarm(&["fe", "run", none.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("analysis `transient`"), "{err}");
+    assert!(err.contains("analysis `none`"), "{err}");
     // An invalid model names the item.
     let text = std::fs::read_to_string(models.join("ceiling_2p4_linear.json")).unwrap();
     let bad = out.join("bad.json");
@@ -160,4 +165,44 @@ fn fe_plot_modes_draws_an_svg() {
         "{}",
         &text[..200.min(text.len())]
     );
+}
+
+fn table(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(str::to_string).collect();
+    let rows = lines.map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect()).collect();
+    (header, rows)
+}
+
+#[test]
+fn fe_run_writes_the_transient_history_opensees_wrote() {
+    let models = verification().join("models");
+    let out = scratch("sweep002");
+    let model = models.join("ceiling_2p4_nonlinear_sweep_0p02g.json");
+    ceilfarm_ok(&["fe", "run", model.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    let (h, got) = table(&out.join("history.csv"));
+    let (hw, want) = table(&models.join("ceiling_2p4_nonlinear_sweep_0p02g_history.csv"));
+    assert_eq!(h, hw, "same header");
+    assert_eq!(got.len(), want.len(), "one row per output step from t = 0");
+    for c in 0..h.len() {
+        let peak = |rows: &[Vec<f64>]| rows.iter().fold(0.0f64, |m, r| m.max(r[c].abs()));
+        let (pg, pw) = (peak(&got), peak(&want));
+        assert!((pg - pw).abs() <= 0.01 * pw + 1e-9, "{}: peak {pg} vs OpenSees {pw}", h[c]);
+    }
+}
+
+#[test]
+fn fe_run_refuses_a_transient_whose_record_is_missing() {
+    let models = verification().join("models");
+    let dir = scratch("norecord");
+    let text =
+        std::fs::read_to_string(models.join("ceiling_2p4_nonlinear_sweep_0p02g.json")).unwrap();
+    let model = dir.join("m.json");
+    std::fs::write(&model, text).unwrap();
+    let out = dir.join("out");
+    let res = ceilfarm(&["fe", "run", model.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!res.status.success());
+    let err = String::from_utf8_lossy(&res.stderr);
+    assert!(err.contains("sweep_x_unit_1g.csv"), "{err}");
 }

@@ -4,7 +4,10 @@ use std::path::{Path, PathBuf};
 
 use crate::eigen::output::{write_modal, WriteError};
 use crate::eigen::{modal_analysis, EigenError, LanczosSettings, ModalResult};
-use crate::model::{read_model, Analysis, ReadError};
+use crate::model::{read_model, Analysis, Model, ReadError};
+use crate::transient::{
+    run_model, write_history_csv, History, StepReport, TransientError, TransientOptions,
+};
 
 /// Why a model file could not be run.
 #[derive(Debug, thiserror::Error)]
@@ -23,6 +26,14 @@ pub enum RunError {
     /// Results could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
+    /// The transient analysis failed; the rows up to the failure were written.
+    #[error("{path}: {source}")]
+    Transient {
+        /// The model file.
+        path: PathBuf,
+        /// The cause (for a failed step: its time and reason).
+        source: TransientError,
+    },
     /// The file asks for no analysis, or one this build cannot run.
     #[error("{path}: analysis `{kind}`: {expected}")]
     Analysis {
@@ -40,6 +51,8 @@ pub enum RunError {
 pub enum RunSummary {
     /// An eigen analysis.
     Eigen(ModalResult),
+    /// A transient analysis: the history written to `history.csv`.
+    Transient(History),
 }
 
 /// Runs the file's analysis (or eigen with `modes_override` modes) into `out_dir`.
@@ -47,11 +60,15 @@ pub fn run_model_file(
     path: &Path,
     out_dir: &Path,
     modes_override: Option<usize>,
+    observer: &mut dyn FnMut(&StepReport),
 ) -> Result<RunSummary, RunError> {
     let model = read_model(path)?;
     let n_modes = match (&model.analysis, modes_override) {
         (_, Some(n)) => n,
         (Some(Analysis::Eigen { n_modes, .. }), None) => *n_modes,
+        (Some(Analysis::Transient(_)), None) => {
+            return run_transient(&model, path, out_dir, observer).map(RunSummary::Transient)
+        }
         (other, None) => {
             let kind = match other {
                 Some(Analysis::Transient(_)) => "transient",
@@ -69,4 +86,31 @@ pub fn run_model_file(
         .map_err(|source| RunError::Eigen { path: path.to_path_buf(), source })?;
     write_modal(out_dir, &s, &res)?;
     Ok(RunSummary::Eigen(res))
+}
+
+/// Runs a transient into `out_dir/history.csv`; a failed run still writes
+/// the rows it reached before reporting the failure.
+fn run_transient(
+    model: &Model,
+    path: &Path,
+    out_dir: &Path,
+    observer: &mut dyn FnMut(&StepReport),
+) -> Result<History, RunError> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let fail = |source| RunError::Transient { path: path.to_path_buf(), source };
+    std::fs::create_dir_all(out_dir).map_err(|e| {
+        fail(TransientError::Io { path: out_dir.to_path_buf(), message: e.to_string() })
+    })?;
+    let out = out_dir.join("history.csv");
+    match run_model(model, &TransientOptions::new(dir), observer) {
+        Ok(h) => {
+            write_history_csv(&h, &out).map_err(fail)?;
+            Ok(h)
+        }
+        Err(TransientError::NoConvergence { t_s, dt_s, step, reason, history }) => {
+            write_history_csv(&history, &out).map_err(fail)?;
+            Err(fail(TransientError::NoConvergence { t_s, dt_s, step, reason, history }))
+        }
+        Err(e) => Err(fail(e)),
+    }
 }

@@ -17,7 +17,10 @@ pub enum FeCommand {
     ///
     /// For eigen: writes DIR/eigen.csv (`mode,f_hz`), DIR/modeshapes.csv
     /// (`mode,node,x_mm,y_mm,phi_x,phi_y,phi_z`, mass-normalised) and
-    /// DIR/modal.csv (participation factors, effective masses).
+    /// DIR/modal.csv (participation factors, effective masses). For a
+    /// transient: DIR/history.csv (`t_s,ag_mm_s2,<recorder names>`, one row
+    /// per output step from t = 0); a run that fails still writes the rows
+    /// it reached and reports the time and reason.
     Run(RunArgs),
     /// Generate a model JSON from a specimen TOML (`[structure]` table).
     ///
@@ -66,6 +69,9 @@ pub struct RunArgs {
     /// Number of modes (overrides the file's analysis; runs eigen).
     #[arg(long)]
     pub modes: Option<usize>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Arguments of `fe material`.
@@ -110,10 +116,27 @@ pub fn run(cmd: FeCommand) -> Result<()> {
             );
             Ok(())
         }
-        FeCommand::Run(a) => {
-            let start = std::time::Instant::now();
-            let summary = fe::run::run_model_file(&a.model, &a.out, a.modes)?;
-            let fe::run::RunSummary::Eigen(res) = summary;
+        FeCommand::Run(a) => run_model(&a),
+    }
+}
+
+/// `fe run`: the file's own analysis, with a progress bar for transients.
+fn run_model(a: &RunArgs) -> Result<()> {
+    let start = std::time::Instant::now();
+    let bar = indicatif::ProgressBar::new(0);
+    if a.quiet {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let mut observer = |r: &fe::transient::StepReport| {
+        if r.step % 50 == 0 || r.step == r.n_steps {
+            bar.set_length(r.n_steps as u64);
+            bar.set_position(r.step as u64);
+        }
+    };
+    let summary = fe::run::run_model_file(&a.model, &a.out, a.modes, &mut observer);
+    bar.finish_and_clear();
+    match summary? {
+        fe::run::RunSummary::Eigen(res) => {
             for (k, f) in res.freq_hz.iter().enumerate() {
                 eprintln!("mode {:>3}: {:>12.6} Hz  ({})", k + 1, f, res.dominant(k));
             }
@@ -123,7 +146,14 @@ pub fn run(cmd: FeCommand) -> Result<()> {
                 a.out.display(),
                 start.elapsed().as_secs_f64()
             );
-            Ok(())
         }
+        fe::run::RunSummary::Transient(h) => eprintln!(
+            "{} output steps of {} channels written to {} in {:.3} s",
+            h.rows.len(),
+            h.columns.len().saturating_sub(2),
+            a.out.join("history.csv").display(),
+            start.elapsed().as_secs_f64()
+        ),
     }
+    Ok(())
 }
