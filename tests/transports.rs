@@ -100,6 +100,34 @@ fn same_export_as_in_process(transport: &str) {
     );
 }
 
+/// A 6-point ceiling-modal study, its specimen given by absolute path.
+fn ceiling_study(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repo().join("configs/ceiling-modal.toml")).unwrap();
+    let spec = repo().join("configs/specimens/type-c.toml");
+    let text = text
+        .replace("spec = \"specimens/type-c.toml\"", &format!("spec = {:?}", s(&spec)))
+        .replace("n = 200", "n = 6");
+    let path = dir.join("c.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn ceiling_same_export_as_in_process(transport: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let study = ceiling_study(dir.path());
+    let ep = endpoint(transport);
+    // Workers start elsewhere: they need no specimen file, the study carries it.
+    let _workers = Workers::start(transport, &ep, 2);
+    let store = dir.path().join("t.db");
+    ceilfarm_ok(&run_args(s(&study), s(&store), transport, &ep));
+    let got = export(&store);
+    assert_eq!(got.iter().filter(|b| **b == b'\n').count(), 7, "header and 6 runs");
+    assert!(
+        got == reference(dir.path(), &study),
+        "{transport}: ceiling-modal export differs from in-process"
+    );
+}
+
 fn committed(store: &Path) -> usize {
     let Ok(conn) =
         rusqlite::Connection::open_with_flags(store, rusqlite::OpenFlags::SQLITE_OPEN_READ_ONLY)
@@ -199,6 +227,10 @@ mod zenoh {
         super::same_export_as_in_process("zenoh");
     }
     #[test]
+    fn ceiling_modal_same_export_as_in_process() {
+        super::ceiling_same_export_as_in_process("zenoh");
+    }
+    #[test]
     fn survives_worker_kill() {
         super::survives_worker_kill("zenoh");
     }
@@ -213,6 +245,10 @@ mod iceoryx2 {
     #[test]
     fn same_export_as_in_process() {
         super::same_export_as_in_process("iceoryx2");
+    }
+    #[test]
+    fn ceiling_modal_same_export_as_in_process() {
+        super::ceiling_same_export_as_in_process("iceoryx2");
     }
     #[test]
     fn survives_worker_kill() {

@@ -376,10 +376,11 @@ fn validate(raw: RawStudy, path: &Path) -> Result<Study, StudyError> {
             String::new()
         }
     };
-    let model_options = match serde_json::to_value(&model) {
+    let mut model_options = match serde_json::to_value(&model) {
         Ok(serde_json::Value::Object(m)) => m,
         _ => serde_json::Map::new(),
     };
+    inline_spec_file(&mut model_options, path, &mut problems);
     let parameters = check_parameters(raw.parameters, &mut problems);
     let design = check_design(raw.design, &mut problems);
     let farm = check_farm(raw.farm, &mut problems);
@@ -581,5 +582,28 @@ seed = 1
             distribution: Distribution::LogUniform,
         };
         assert!((p.from_unit(0.5) - 10.0).abs() < 1e-12);
+    }
+}
+
+/// Replaces a `[model] spec = "FILE"` (a specimen TOML, relative to the study
+/// file or else to the working directory) by its text as `spec_toml`, so that
+/// workers on other machines need no copy and the study hash covers the
+/// specimen itself.
+fn inline_spec_file(
+    options: &mut serde_json::Map<String, serde_json::Value>,
+    study_path: &Path,
+    problems: &mut Vec<String>,
+) {
+    let Some(serde_json::Value::String(file)) = options.get("spec").cloned() else { return };
+    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
+    let found = if beside.is_file() { beside } else { PathBuf::from(&file) };
+    match std::fs::read_to_string(&found) {
+        Ok(text) => {
+            options.remove("spec");
+            options.insert("spec_toml".into(), serde_json::Value::String(text));
+        }
+        Err(e) => problems.push(format!(
+            "model.spec = {file:?}: cannot read it beside the study file or in the working directory ({e})"
+        )),
     }
 }

@@ -7,7 +7,7 @@
 //! mode's largest effective mass (1 = x, 2 = y, 3 = z).
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{generate, CeilingSpec, Parameters};
@@ -22,8 +22,13 @@ const KIND: &str = "ceiling-modal";
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CeilingModalOptions {
-    /// The specimen TOML (`[structure]` table), e.g. `configs/specimens/type-c.toml`.
-    pub spec: PathBuf,
+    /// The specimen TOML file (`[structure]` table), read by this worker.
+    #[serde(default)]
+    pub spec: Option<PathBuf>,
+    /// The specimen TOML text itself (the coordinator inlines `spec` files
+    /// so that workers on other machines need no copy).
+    #[serde(default)]
+    pub spec_toml: Option<String>,
     /// Number of modes reported (default 6).
     #[serde(default = "six")]
     pub n_modes: usize,
@@ -47,7 +52,14 @@ impl CeilingModal {
     /// Reads the specimen and checks every parameter name against Table 6.1.
     pub fn new(opts: CeilingModalOptions, names: &[String]) -> Result<Self, ModelError> {
         let invalid = |message: String| ModelError::Invalid { kind: KIND.into(), message };
-        let spec = CeilingSpec::from_toml_file(&opts.spec).map_err(|e| invalid(e.to_string()))?;
+        let spec = match (&opts.spec, &opts.spec_toml) {
+            (None, Some(text)) => CeilingSpec::from_toml_str(text, Path::new("[model] spec_toml")),
+            (Some(path), None) => CeilingSpec::from_toml_file(path),
+            _ => {
+                return Err(invalid("expected exactly one of `spec` (file) or `spec_toml`".into()))
+            }
+        };
+        let spec = spec.map_err(|e| invalid(e.to_string()))?;
         let mut base = Parameters::prior_midpoints();
         for (name, value) in &opts.fixed {
             base.set(name, *value).map_err(|e| invalid(format!("fixed: {e}")))?;
@@ -101,7 +113,12 @@ mod tests {
     fn opts() -> CeilingModalOptions {
         let spec =
             PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../configs/specimens/type-c.toml");
-        CeilingModalOptions { spec, n_modes: 2, fixed: BTreeMap::new() }
+        CeilingModalOptions {
+            spec: Some(spec),
+            spec_toml: None,
+            n_modes: 2,
+            fixed: BTreeMap::new(),
+        }
     }
 
     #[test]

@@ -112,8 +112,13 @@ impl CeilingSpec {
     pub fn from_toml_file(path: &Path) -> Result<Self, SpecError> {
         let text = std::fs::read_to_string(path)
             .map_err(|source| SpecError::Io { path: path.to_path_buf(), source })?;
-        let spec: CeilingSpec = toml::from_str(&text)
-            .map_err(|e| SpecError::Toml { path: path.to_path_buf(), message: e.to_string() })?;
+        Self::from_toml_str(&text, path)
+    }
+
+    /// Parses and checks specimen TOML text; `origin` names it in errors.
+    pub fn from_toml_str(text: &str, origin: &Path) -> Result<Self, SpecError> {
+        let spec: CeilingSpec = toml::from_str(text)
+            .map_err(|e| SpecError::Toml { path: origin.to_path_buf(), message: e.to_string() })?;
         spec.check()?;
         Ok(spec)
     }
