@@ -21,7 +21,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::skeleton::Skeleton;
+use super::skeleton::{PeakHistory as History, Skeleton};
 use super::{check_finite, MaterialError, UniaxialMaterial};
 
 /// Pivot parameters, named as in the JSON format.
@@ -47,35 +47,6 @@ pub struct PivotSpec {
     /// Elastic softening parameter (only 0 is supported).
     #[serde(default)]
     pub eta: f64,
-}
-
-/// The state a step changes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct History {
-    d: f64,
-    f: f64,
-    k_t: f64,
-    /// Largest positive deformation so far (mm, >= dy+).
-    d_max: f64,
-    /// Largest negative deformation so far (mm, <= dy-).
-    d_min: f64,
-    /// Zero-force crossing of the positive reloading path (mm).
-    d0_pos: f64,
-    /// Zero-force crossing of the negative reloading path (mm).
-    d0_neg: f64,
-}
-
-/// Zero deformation and force, excursions at the yield points.
-fn virgin_history(skeleton: &Skeleton) -> History {
-    History {
-        d: 0.0,
-        f: 0.0,
-        k_t: skeleton.k0(1.0),
-        d_max: skeleton.dy(1.0),
-        d_min: skeleton.dy(-1.0),
-        d0_pos: 0.0,
-        d0_neg: 0.0,
-    }
 }
 
 /// The Pivot material.
@@ -110,7 +81,7 @@ impl Pivot {
         if spec.eta != 0.0 {
             return bad("eta", spec.eta, "0 (elastic softening is not implemented)");
         }
-        let virgin = virgin_history(&skeleton);
+        let virgin = History::virgin(&skeleton);
         Ok(Pivot {
             skeleton,
             alpha: [spec.alpha1, spec.alpha2],
@@ -229,7 +200,7 @@ impl UniaxialMaterial for Pivot {
         self.trial = self.committed;
     }
     fn boxed_clone(&self) -> Box<dyn UniaxialMaterial> {
-        let virgin = virgin_history(&self.skeleton);
+        let virgin = History::virgin(&self.skeleton);
         Box::new(Pivot { committed: virgin, trial: virgin, ..*self })
     }
 }

@@ -128,6 +128,40 @@ impl Skeleton {
     }
 }
 
+/// The state a step of a peak-oriented law (Takeda, Pivot) changes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PeakHistory {
+    /// Deformation (mm).
+    pub d: f64,
+    /// Force (N).
+    pub f: f64,
+    /// Tangent (N/mm).
+    pub k_t: f64,
+    /// Largest positive deformation so far (mm, >= the positive yield deformation).
+    pub d_max: f64,
+    /// Largest negative deformation so far (mm, <= the negative yield deformation).
+    pub d_min: f64,
+    /// Zero-force crossing of the positive reloading path (mm).
+    pub d0_pos: f64,
+    /// Zero-force crossing of the negative reloading path (mm).
+    pub d0_neg: f64,
+}
+
+impl PeakHistory {
+    /// Zero deformation and force, excursions at the yield points.
+    pub fn virgin(skeleton: &Skeleton) -> Self {
+        Self {
+            d: 0.0,
+            f: 0.0,
+            k_t: skeleton.k0(1.0),
+            d_max: skeleton.dy(1.0),
+            d_min: skeleton.dy(-1.0),
+            d0_pos: 0.0,
+            d0_neg: 0.0,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

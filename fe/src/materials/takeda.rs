@@ -21,7 +21,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::skeleton::Skeleton;
+use super::skeleton::{PeakHistory as History, Skeleton};
 use super::{check_finite, MaterialError, UniaxialMaterial};
 
 /// Takeda parameters, named as in the JSON format.
@@ -40,35 +40,6 @@ pub struct TakedaSpec {
     /// the initial stiffness as SAP2000's Takeda link, Otani uses 0.4 to 0.5.
     #[serde(default)]
     pub alpha: f64,
-}
-
-/// The state a step changes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct History {
-    d: f64,
-    f: f64,
-    k_t: f64,
-    /// Largest positive deformation so far (mm, >= the positive yield deformation).
-    d_max: f64,
-    /// Largest negative deformation so far (mm, <= the negative yield deformation).
-    d_min: f64,
-    /// Zero-force crossing the positive reloading line starts from (mm).
-    d0_pos: f64,
-    /// Zero-force crossing the negative reloading line starts from (mm).
-    d0_neg: f64,
-}
-
-/// Zero deformation and force, excursions at the yield points.
-fn virgin_history(skeleton: &Skeleton) -> History {
-    History {
-        d: 0.0,
-        f: 0.0,
-        k_t: skeleton.k0(1.0),
-        d_max: skeleton.dy(1.0),
-        d_min: skeleton.dy(-1.0),
-        d0_pos: 0.0,
-        d0_neg: 0.0,
-    }
 }
 
 /// The modified Takeda material.
@@ -92,13 +63,13 @@ impl Takeda {
                 expected: "an exponent in [0, 1)",
             });
         }
-        let virgin = virgin_history(&skeleton);
+        let virgin = History::virgin(&skeleton);
         Ok(Takeda { skeleton, alpha: spec.alpha, committed: virgin, trial: virgin })
     }
 
     /// The virgin state of this material.
     fn virgin(&self) -> History {
-        virgin_history(&self.skeleton)
+        History::virgin(&self.skeleton)
     }
 
     /// Unloading stiffness after an excursion to `d_peak` on side `s`.
