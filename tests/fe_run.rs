@@ -7,16 +7,9 @@ use common::*;
 
 use std::path::{Path, PathBuf};
 
-/// The shared verification folder (`CEILFARM_SHARED` or found above the repo).
+/// The shared verification folder.
 fn verification() -> PathBuf {
-    if let Ok(dir) = std::env::var("CEILFARM_SHARED") {
-        return PathBuf::from(dir).join("verification");
-    }
-    repo()
-        .ancestors()
-        .map(|a| a.join("shared").join("verification"))
-        .find(|p| p.join("MODEL_FORMAT.md").is_file())
-        .expect("shared/verification not found; set CEILFARM_SHARED")
+    shared().join("verification")
 }
 
 fn scratch(name: &str) -> PathBuf {

@@ -3,7 +3,7 @@
 //! model file is self-describing and predictions carry sds.
 
 mod common;
-use common::{ceilfarm, ceilfarm_ok, repo, s};
+use common::{ceilfarm, ceilfarm_ok, s, shared};
 use std::f64::consts::PI;
 
 fn borehole(x: &[f64]) -> f64 {
@@ -17,12 +17,7 @@ const NAMES: &str = "rw,r,Tu,Hu,Tl,Hl,L,Kw";
 #[test]
 fn fit_then_predict_borehole_200() {
     let dir = tempfile::tempdir().unwrap();
-    let train = repo().join("../shared/benchmarks/borehole_train_200.csv");
-    let train = if train.exists() {
-        train
-    } else {
-        std::path::PathBuf::from("/work/shared/benchmarks/borehole_train_200.csv")
-    };
+    let train = shared().join("benchmarks/borehole_train_200.csv");
     let model = dir.path().join("model.json");
     ceilfarm_ok(&["gp", "fit", s(&train), "--inputs", NAMES, "--outputs", "y", "--out", s(&model)]);
     let m: serde_json::Value =

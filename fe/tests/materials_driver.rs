@@ -1,19 +1,13 @@
 //! The `fe material` driver end to end on files: a shared fixture's material
 //! and protocol in, a response CSV out that matches the OpenSees fixture.
 
-use std::path::{Path, PathBuf};
+mod common;
+use std::path::PathBuf;
 
 use fe::materials::driver::{run_files, DriverError};
 
 fn materials_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("CEILFARM_SHARED") {
-        return PathBuf::from(dir).join("verification/materials");
-    }
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/verification/materials"))
-        .find(|p| p.join("materials.json").is_file())
-        .expect("shared/verification/materials not found above the crate; set CEILFARM_SHARED")
+    common::verification_dir().join("materials")
 }
 
 fn columns(text: &str) -> (String, Vec<[f64; 3]>) {

@@ -3,24 +3,12 @@
 //! one committed step per row, force within 1e-6 of the fixture's peak
 //! |force| on every row. Tangents are compared and reported too.
 
-use std::path::{Path, PathBuf};
+mod common;
+use common::verification_dir;
+use std::path::Path;
 
 use fe::materials::driver::read_protocol_file;
 use fe::materials::{drive, MaterialSpec};
-
-/// The shared verification folder: `CEILFARM_SHARED` if set, else the first
-/// `shared/verification` found above this crate.
-fn verification_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("CEILFARM_SHARED") {
-        return PathBuf::from(dir).join("verification");
-    }
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
-    manifest
-        .ancestors()
-        .map(|a| a.join("shared").join("verification"))
-        .find(|p| p.join("materials").join("materials.json").is_file())
-        .expect("shared/verification/materials not found above the crate; set CEILFARM_SHARED")
-}
 
 /// Rows (deformation, force, tangent) of a fixture CSV.
 fn read_fixture(path: &Path) -> Vec<(f64, f64, f64)> {

@@ -9,10 +9,11 @@ use stats::gp::{fit, GpSettings, InputScaling, KernelKind};
 use stats::sobol::functions;
 use stats::validation::validate;
 
-const BENCH: &str = "/work/shared/benchmarks";
+mod calib_common;
 
-fn read_csv(path: &str) -> Vec<Vec<f64>> {
-    let text = std::fs::read_to_string(path).expect("benchmark file");
+fn read_csv(file: &str) -> Vec<Vec<f64>> {
+    let path = calib_common::benchmarks_dir().join(file);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect()
 }
 
@@ -33,7 +34,7 @@ fn scaling(bounds: &[(f64, f64)]) -> InputScaling {
 #[test]
 #[ignore]
 fn borehole_1000_beats_reference_rmse_and_nlpd() {
-    let (x, y, d) = split(&read_csv(&format!("{BENCH}/borehole_train_1000.csv")));
+    let (x, y, d) = split(&read_csv("borehole_train_1000.csv"));
     let bounds = functions::problem("borehole").unwrap().bounds;
     let gp = [KernelKind::SquaredExponential, KernelKind::RationalQuadratic]
         .into_iter()
@@ -58,7 +59,7 @@ fn borehole_1000_beats_reference_rmse_and_nlpd() {
 #[test]
 #[ignore]
 fn modal13_f1_cross_validated_rmse() {
-    let (x, y, d) = split(&read_csv(&format!("{BENCH}/modal13_train_700.csv")));
+    let (x, y, d) = split(&read_csv("modal13_train_700.csv"));
     let bounds = [
         (30.0, 36.0),
         (1.9e5, 2.3e5),

@@ -15,6 +15,20 @@ pub fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
 }
 
+/// The shared reference folder (`../shared` beside the repository):
+/// `CEILFARM_SHARED` if set, else the first `shared/` above the repository
+/// that holds `verification/MODEL_FORMAT.md`.
+pub fn shared() -> PathBuf {
+    if let Ok(dir) = std::env::var("CEILFARM_SHARED") {
+        return PathBuf::from(dir);
+    }
+    repo()
+        .ancestors()
+        .map(|a| a.join("shared"))
+        .find(|p| p.join("verification").join("MODEL_FORMAT.md").is_file())
+        .expect("shared/ not found above the repository; set CEILFARM_SHARED")
+}
+
 /// Runs `ceilfarm` with arguments; returns its output.
 pub fn ceilfarm(args: &[&str]) -> Output {
     Command::new(bin()).args(args).output().expect("spawn ceilfarm")

@@ -1,4 +1,4 @@
-//! Helpers shared by the modal tests: the verification folder and CSV readers.
+//! Helpers shared by the fe tests: the verification folder and CSV readers.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};

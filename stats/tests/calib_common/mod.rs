@@ -14,13 +14,17 @@ pub fn eta(x: f64, k: f64, c: f64, m: f64) -> f64 {
     1.0 / ((k - m * w * w).powi(2) + (c * w).powi(2)).sqrt()
 }
 
-/// `shared/benchmarks`: CARGO_MANIFEST_DIR/../../shared from the main checkout,
-/// one level further up from a worktree under `wt/`.
+/// `shared/benchmarks`: under `CEILFARM_SHARED` if set, else the first
+/// `shared/benchmarks` found above this crate.
 pub fn benchmarks_dir() -> std::path::PathBuf {
-    let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let candidates =
-        [base.join("../../shared/benchmarks"), base.join("../../../shared/benchmarks")];
-    candidates.iter().find(|p| p.is_dir()).unwrap_or(&candidates[0]).clone()
+    if let Ok(dir) = std::env::var("CEILFARM_SHARED") {
+        return std::path::PathBuf::from(dir).join("benchmarks");
+    }
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .map(|a| a.join("shared").join("benchmarks"))
+        .find(|p| p.join("README.md").is_file())
+        .expect("shared/benchmarks not found above the crate; set CEILFARM_SHARED")
 }
 
 /// (x, y) columns of a benchmark CSV.
