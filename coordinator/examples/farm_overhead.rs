@@ -23,13 +23,12 @@ impl ResultSink for StoreSink {
     }
 }
 
-/// User + system CPU seconds of this process (Linux /proc, 100 Hz ticks).
+#[path = "common/cpu.rs"]
+mod cpu;
+
+/// CPU seconds of this process.
 fn cpu_s() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<&str> = after.split_whitespace().collect();
-    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
-    (ticks(11) + ticks(12)) / 100.0
+    cpu::cpu_s().0
 }
 
 const STUDY: &str = r#"

@@ -20,13 +20,13 @@ impl ResultSink for Null {
     }
 }
 
-/// CPU seconds (user + system) of this process and of its waited-for children.
+#[path = "common/cpu.rs"]
+mod cpu;
+
+/// CPU seconds of this process and of its waited-for children (the workers).
 fn cpu_s() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<&str> = after.split_whitespace().collect();
-    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
-    (ticks(11) + ticks(12) + ticks(13) + ticks(14)) / 100.0
+    let (own, children) = cpu::cpu_s();
+    own + children
 }
 
 /// Where one run's coordinator listens and its workers connect.

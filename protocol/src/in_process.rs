@@ -2,11 +2,11 @@
 //! task channel, reporting on one shared event channel. The local two-core
 //! mode; the farm cannot tell it from a networked transport.
 
-use crate::transport::{Transport, TransportError, TransportEvent, WorkerId};
+use crate::transport::{recv_event, Transport, TransportError, TransportEvent, WorkerId};
 use crate::{ModelSpec, Task, TaskResult};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
+use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
@@ -105,13 +105,7 @@ impl Transport for InProcess {
     }
 
     fn next_event(&mut self, timeout: Duration) -> Result<Option<TransportEvent>, TransportError> {
-        match self.events_rx.recv_timeout(timeout) {
-            Ok(ev) => Ok(Some(ev)),
-            Err(RecvTimeoutError::Timeout) => Ok(None),
-            Err(RecvTimeoutError::Disconnected) => {
-                Err(TransportError::Closed("event channel".into()))
-            }
-        }
+        recv_event(&self.events_rx, timeout)
     }
 
     fn abandon(&mut self, worker: WorkerId, _reason: &str) {

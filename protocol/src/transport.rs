@@ -5,6 +5,7 @@
 //! leases, retries); a transport only moves messages and reports membership.
 
 use crate::{ModelSpec, Task, TaskResult};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::Duration;
 
 /// A worker as the transport knows it; never reused within one transport.
@@ -86,4 +87,16 @@ pub trait Transport: Send {
     fn abandon(&mut self, worker: WorkerId, reason: &str);
     /// Tells every worker to stop and releases the transport's resources.
     fn shutdown(&mut self);
+}
+
+/// The next event of a transport that gathers its events on a channel.
+pub(crate) fn recv_event(
+    events: &Receiver<TransportEvent>,
+    timeout: Duration,
+) -> Result<Option<TransportEvent>, TransportError> {
+    match events.recv_timeout(timeout) {
+        Ok(ev) => Ok(Some(ev)),
+        Err(RecvTimeoutError::Timeout) => Ok(None),
+        Err(RecvTimeoutError::Disconnected) => Err(TransportError::Closed("event channel".into())),
+    }
 }

@@ -14,11 +14,11 @@
 
 use crate::codec;
 use crate::link::{study_refusal, JoinRequest, Joined, LinkEvent, Ticket, WorkerLink};
-use crate::transport::{Transport, TransportError, TransportEvent, WorkerId};
+use crate::transport::{recv_event, Transport, TransportError, TransportEvent, WorkerId};
 use crate::{FromWorker, ModelSpec, Task, TaskResult, ToWorker, PROTOCOL_VERSION};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
+use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use zenoh::handlers::{CallbackDrop, FifoChannelHandler};
@@ -288,13 +288,7 @@ impl Transport for ZenohCoordinator {
     }
 
     fn next_event(&mut self, timeout: Duration) -> Result<Option<TransportEvent>, TransportError> {
-        match self.events_rx.recv_timeout(timeout) {
-            Ok(ev) => Ok(Some(ev)),
-            Err(RecvTimeoutError::Timeout) => Ok(None),
-            Err(RecvTimeoutError::Disconnected) => {
-                Err(TransportError::Closed("event channel".into()))
-            }
-        }
+        recv_event(&self.events_rx, timeout)
     }
 
     fn abandon(&mut self, worker: WorkerId, _reason: &str) {
