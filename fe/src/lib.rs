@@ -6,6 +6,7 @@
 //! knows about the farm or statistics.
 
 pub mod assembly;
+pub mod ceiling;
 pub mod eigen;
 pub mod elements;
 pub mod generator;

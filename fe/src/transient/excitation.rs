@@ -70,6 +70,32 @@ impl GroundMotion {
     }
 }
 
+/// Base acceleration in one or more global DOFs at once (e.g. x and y of a
+/// bidirectional shaking-table run); each component acts on its own DOF.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BaseMotion {
+    /// Components, each in a distinct DOF.
+    pub components: Vec<GroundMotion>,
+}
+
+impl BaseMotion {
+    /// One component.
+    pub fn single(g: GroundMotion) -> Self {
+        BaseMotion { components: vec![g] }
+    }
+
+    /// a_g of every component at `t_s` (mm/s²), in component order.
+    pub fn accel_at(&self, t_s: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend(self.components.iter().map(|g| g.accel_at(t_s)));
+    }
+
+    /// Index of the component acting on `dof`, if any.
+    pub fn component_of(&self, dof: u8) -> Option<usize> {
+        self.components.iter().position(|g| g.dof == dof)
+    }
+}
+
 /// The acceleration column of a record CSV, checking t = k·dt.
 fn parse_record(text: &str, dt_s: f64, path: &Path) -> Result<Vec<f64>, TransientError> {
     let err = |line: usize, message: String| TransientError::Record {

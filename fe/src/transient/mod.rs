@@ -21,7 +21,7 @@ pub mod subdivision;
 
 use std::path::{Path, PathBuf};
 
-pub use excitation::GroundMotion;
+pub use excitation::{BaseMotion, GroundMotion};
 pub use history::{write_history, write_history_csv, History};
 pub use newton::{Kinematics, NewtonFailure, NewtonSettings};
 pub use spec::TransientSpec;
@@ -142,32 +142,71 @@ pub fn run_model(
     observer: &mut dyn FnMut(&StepReport),
 ) -> Result<History, TransientError> {
     let spec = TransientSpec::from_model(model)?;
-    let ground = GroundMotion::from_spec(&spec.excitation, &opts.base_dir)?;
+    let ground = BaseMotion::single(GroundMotion::from_spec(&spec.excitation, &opts.base_dir)?);
+    let plan = Plan {
+        base: &ground,
+        dt_s: spec.dt_s,
+        n_steps: spec.n_steps,
+        gamma: spec.integrator.gamma,
+        beta: spec.integrator.beta,
+        output_every_n_steps: spec.output_every_n_steps,
+        recorders: &spec.recorders,
+    };
+    run_plan(model, &plan, opts, observer)
+}
+
+/// What to integrate, when it does not come from the model's analysis block.
+#[derive(Debug, Clone, Copy)]
+pub struct Plan<'a> {
+    /// Base motion (one component per DOF).
+    pub base: &'a BaseMotion,
+    /// Analysis step (s).
+    pub dt_s: f64,
+    /// Number of steps.
+    pub n_steps: usize,
+    /// Newmark γ.
+    pub gamma: f64,
+    /// Newmark β.
+    pub beta: f64,
+    /// One output row every this many steps (≥ 1).
+    pub output_every_n_steps: usize,
+    /// Recorded channels.
+    pub recorders: &'a [spec::RecorderSpec],
+}
+
+/// Runs a transient of `model` (its masses, damping, springs) under `plan`.
+pub fn run_plan(
+    model: &Model,
+    plan: &Plan<'_>,
+    opts: &TransientOptions,
+    observer: &mut dyn FnMut(&StepReport),
+) -> Result<History, TransientError> {
+    let ground = plan.base;
     let s = Structure::new(model)?;
     let (alpha, beta) =
         model.damping.as_ref().map_or((0.0, 0.0), |d| (d.alpha_m_per_s, d.beta_k_s));
-    let recs = Recorders::new(&spec.recorders, &s, ground.dof)?;
+    let dofs: Vec<u8> = ground.components.iter().map(|g| g.dof).collect();
+    let recs = Recorders::new(plan.recorders, &s, &dofs)?;
     let springs = SpringStates::new(&s)
         .map_err(|f| TransientError::Material { spring: f.spring, message: f.error.to_string() })?;
-    let load = influence_load(&s, ground.dof);
+    let loads: Vec<Vec<f64>> = dofs.iter().map(|d| influence_load(&s, *d)).collect();
     let n = s.dofs.n_free;
     let mut st =
         StepState { committed: Kinematics::zeros(n), trial: Kinematics::zeros(n), springs };
     let mut sys = Dynamics::new(&s, alpha, beta);
     let ctl = StepControl {
-        gamma: spec.integrator.gamma,
-        beta: spec.integrator.beta,
+        gamma: plan.gamma,
+        beta: plan.beta,
         newton: opts.newton,
         max_halvings: opts.max_halvings,
     };
-    let mut columns = vec!["t_s".to_string(), "ag_mm_s2".to_string()];
-    columns.extend(recs.names.iter().cloned());
-    let mut hist = History { columns, rows: Vec::new() };
-    push_row(&mut hist, &recs, &st, &ground, 0.0);
-    let n_steps = opts.max_steps.map_or(spec.n_steps, |m| m.min(spec.n_steps));
+    let mut hist = History { columns: columns(&dofs, &recs), rows: Vec::new() };
+    push_row(&mut hist, &recs, &st, ground, 0.0);
+    let n_steps = opts.max_steps.map_or(plan.n_steps, |m| m.min(plan.n_steps));
+    let every = plan.output_every_n_steps.max(1);
     for step in 1..=n_steps {
-        let t0 = (step - 1) as f64 * spec.dt_s;
-        let cost = match advance(&mut sys, &mut st, &ground, &load, &ctl, t0, spec.dt_s, 0) {
+        let t0 = (step - 1) as f64 * plan.dt_s;
+        let cost = match advance(&mut sys, &mut st, ground, &loads, &ctl, t0, plan.dt_s, 0) {
             Ok(c) => c,
             Err(f) => {
                 return Err(TransientError::NoConvergence {
@@ -179,9 +218,9 @@ pub fn run_model(
                 })
             }
         };
-        let t = step as f64 * spec.dt_s;
-        if step % spec.output_every_n_steps == 0 {
-            push_row(&mut hist, &recs, &st, &ground, t);
+        let t = step as f64 * plan.dt_s;
+        if step % every == 0 {
+            push_row(&mut hist, &recs, &st, ground, t);
         }
         observer(&StepReport {
             step,
@@ -193,6 +232,18 @@ pub fn run_model(
         });
     }
     Ok(hist)
+}
+
+/// `t_s`, the base acceleration column(s), then the recorder names.
+fn columns(dofs: &[u8], recs: &Recorders) -> Vec<String> {
+    let mut columns = vec!["t_s".to_string()];
+    if dofs.len() == 1 {
+        columns.push("ag_mm_s2".into());
+    } else {
+        columns.extend(dofs.iter().map(|d| format!("ag_dof{d}_mm_s2")));
+    }
+    columns.extend(recs.names.iter().cloned());
+    columns
 }
 
 /// Reads a model file and runs its transient analysis (records relative to its folder).
@@ -216,9 +267,11 @@ fn influence_load(s: &Structure, dof: u8) -> Vec<f64> {
     load
 }
 
-fn push_row(h: &mut History, recs: &Recorders, st: &StepState, g: &GroundMotion, t: f64) {
-    let ag = g.accel_at(t);
-    let mut row = vec![t, ag];
-    recs.sample(&st.committed, &st.springs, ag, &mut row);
+fn push_row(h: &mut History, recs: &Recorders, st: &StepState, g: &BaseMotion, t: f64) {
+    let mut ag = Vec::with_capacity(g.components.len());
+    g.accel_at(t, &mut ag);
+    let mut row = vec![t];
+    row.extend_from_slice(&ag);
+    recs.sample(&st.committed, &st.springs, &ag, &mut row);
     h.rows.push(row);
 }

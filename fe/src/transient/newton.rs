@@ -201,20 +201,19 @@ impl<'a> Dynamics<'a> {
         Ok(())
     }
 
-    /// Residual R = −M r a_g − M a − C v − K_beam u − F_springs into `out`
-    /// (one pass over the pattern for K_beam u + C v).
+    /// Residual R = −Σ M r a_g − M a − C v − K_beam u − F_springs into `out`
+    /// (one pass over the pattern for K_beam u + C v); `ext` is Σ M r a_g.
     fn residual(
         &mut self,
         trial: &Kinematics,
         springs: &SpringStates,
-        load: &[f64],
-        ag: f64,
+        ext: &[f64],
         out: &mut [f64],
     ) {
         let p = &self.s.pattern;
         let (kb, cv) = (&self.s.beam_values, &self.c_values);
         for k in 0..out.len() {
-            out[k] = -load[k] * ag - self.s.mass[k] * trial.a[k];
+            out[k] = -ext[k] - self.s.mass[k] * trial.a[k];
         }
         for c in 0..p.n {
             let (uc, vc) = (trial.u[c], trial.v[c]);
@@ -232,7 +231,7 @@ impl<'a> Dynamics<'a> {
     }
 
     /// Solves one step from `committed` to a converged `trial`; returns the
-    /// number of iterations. `load` is M r (t per DOF), `ag` a_g at the step end.
+    /// number of iterations. `ext` is Σ M r a_g at the step end (N).
     #[allow(clippy::too_many_arguments)]
     pub fn solve_step(
         &mut self,
@@ -240,8 +239,7 @@ impl<'a> Dynamics<'a> {
         committed: &Kinematics,
         trial: &mut Kinematics,
         springs: &mut SpringStates,
-        load: &[f64],
-        ag: f64,
+        ext: &[f64],
         settings: &NewtonSettings,
     ) -> Result<usize, NewtonFailure> {
         trial.u.clone_from(&committed.u);
@@ -257,7 +255,7 @@ impl<'a> Dynamics<'a> {
                 &mut trial.v,
                 &mut trial.a,
             );
-            self.residual(trial, springs, load, ag, &mut r);
+            self.residual(trial, springs, ext, &mut r);
             self.ensure_factor(nm, &springs.tangent_n_mm)?;
             if let Some(f) = &self.factor {
                 f.solve_in_place(&mut r);

@@ -1,5 +1,5 @@
 //! Recorded channels: node displacement / velocity relative to the base,
-//! absolute acceleration (relative + a_g in the excitation DOF), spring
+//! absolute acceleration (relative + a_g of the component in that DOF), spring
 //! deformation d = u_j − u_i and material force (MODEL_FORMAT.md, recorders).
 //!
 //! Units: mm, mm/s, mm/s², N (rad for rotational DOFs).
@@ -17,12 +17,12 @@ pub enum Channel {
     Disp(Option<usize>),
     /// Relative velocity.
     Vel(Option<usize>),
-    /// Relative acceleration plus a_g when `add_ground`.
+    /// Relative acceleration plus a_g of the base component in that DOF.
     AccelAbs {
         /// Equation (fixed DOF: relative acceleration 0).
         eq: Option<usize>,
-        /// Whether the DOF is the excitation DOF.
-        add_ground: bool,
+        /// The base-motion component acting in the DOF, if any.
+        ground: Option<usize>,
     },
     /// Deformation of spring number k (file order).
     SpringDeformation(usize),
@@ -40,32 +40,31 @@ pub struct Recorders {
 }
 
 impl Recorders {
-    /// Resolves recorder specs against a structure; `ground_dof` is 1..6.
+    /// Resolves recorder specs against a structure; `ground_dofs` are the
+    /// DOFs (1..6) of the base-motion components, in component order.
     pub fn new(
         specs: &[RecorderSpec],
         s: &Structure,
-        ground_dof: u8,
+        ground_dofs: &[u8],
     ) -> Result<Self, TransientError> {
         let mut names = Vec::new();
         let mut channels = Vec::new();
         for r in specs {
-            let (name, ch) = resolve(r, s, ground_dof)?;
+            let (name, ch) = resolve(r, s, ground_dofs)?;
             names.push(name);
             channels.push(ch);
         }
         Ok(Recorders { names, channels })
     }
 
-    /// Appends one value per channel to `row`.
-    pub fn sample(&self, kin: &Kinematics, springs: &SpringStates, ag: f64, row: &mut Vec<f64>) {
+    /// Appends one value per channel to `row`; `ag` holds a_g per component.
+    pub fn sample(&self, kin: &Kinematics, springs: &SpringStates, ag: &[f64], row: &mut Vec<f64>) {
         let at = |x: &[f64], eq: Option<usize>| eq.map_or(0.0, |e| x[e]);
         for ch in &self.channels {
             row.push(match *ch {
                 Channel::Disp(eq) => at(&kin.u, eq),
                 Channel::Vel(eq) => at(&kin.v, eq),
-                Channel::AccelAbs { eq, add_ground } => {
-                    at(&kin.a, eq) + if add_ground { ag } else { 0.0 }
-                }
+                Channel::AccelAbs { eq, ground } => at(&kin.a, eq) + ground.map_or(0.0, |c| ag[c]),
                 Channel::SpringDeformation(k) => springs.deformation_mm[k],
                 Channel::SpringForce(k) => springs.force_n[k],
             });
@@ -80,7 +79,7 @@ fn bad(r: &RecorderSpec, message: &str) -> TransientError {
 fn resolve(
     r: &RecorderSpec,
     s: &Structure,
-    ground_dof: u8,
+    ground_dofs: &[u8],
 ) -> Result<(String, Channel), TransientError> {
     if let Some(node) = r.node {
         let dof = r
@@ -92,7 +91,9 @@ fn resolve(
         let ch = match r.response.as_str() {
             "disp" => Channel::Disp(eq),
             "vel" => Channel::Vel(eq),
-            "accel_abs" => Channel::AccelAbs { eq, add_ground: dof == ground_dof },
+            "accel_abs" => {
+                Channel::AccelAbs { eq, ground: ground_dofs.iter().position(|d| *d == dof) }
+            }
             _ => return Err(bad(r, "node response must be disp, vel or accel_abs")),
         };
         let name = r.name.clone().unwrap_or_else(|| format!("n{node}_dof{dof}_{}", r.response));

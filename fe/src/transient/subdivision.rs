@@ -4,7 +4,7 @@
 //!
 //! Units: s.
 
-use super::excitation::GroundMotion;
+use super::excitation::BaseMotion;
 use super::newmark::NewmarkConstants;
 use super::newton::{Dynamics, Kinematics, NewtonFailure, NewtonSettings};
 use super::springs::SpringStates;
@@ -58,17 +58,16 @@ pub struct StepControl {
 pub fn advance(
     sys: &mut Dynamics<'_>,
     st: &mut StepState,
-    ground: &GroundMotion,
-    load: &[f64],
+    ground: &BaseMotion,
+    loads: &[Vec<f64>],
     ctl: &StepControl,
     t0_s: f64,
     dt_s: f64,
     depth: u32,
 ) -> Result<StepCost, StepFailure> {
     let nm = NewmarkConstants::new(ctl.gamma, ctl.beta, dt_s);
-    let ag = ground.accel_at(t0_s + dt_s);
-    let res =
-        sys.solve_step(&nm, &st.committed, &mut st.trial, &mut st.springs, load, ag, &ctl.newton);
+    let ext = external_load(ground, loads, t0_s + dt_s);
+    let res = sys.solve_step(&nm, &st.committed, &mut st.trial, &mut st.springs, &ext, &ctl.newton);
     match res {
         Ok(iterations) => {
             st.springs.commit();
@@ -81,12 +80,23 @@ pub fn advance(
                 return Err(StepFailure { t_s: t0_s, dt_s, reason });
             }
             let h = 0.5 * dt_s;
-            let a = advance(sys, st, ground, load, ctl, t0_s, h, depth + 1)?;
-            let b = advance(sys, st, ground, load, ctl, t0_s + h, h, depth + 1)?;
+            let a = advance(sys, st, ground, loads, ctl, t0_s, h, depth + 1)?;
+            let b = advance(sys, st, ground, loads, ctl, t0_s + h, h, depth + 1)?;
             Ok(StepCost {
                 iterations: a.iterations + b.iterations,
                 substeps: a.substeps + b.substeps,
             })
         }
     }
+}
+
+/// Σ over components of M r_c a_c(t) (N), `loads[c]` being M r_c.
+fn external_load(ground: &BaseMotion, loads: &[Vec<f64>], t_s: f64) -> Vec<f64> {
+    let n = loads.first().map_or(0, Vec::len);
+    let mut ext = vec![0.0; n];
+    for (g, load) in ground.components.iter().zip(loads) {
+        let ag = g.accel_at(t_s);
+        ext.iter_mut().zip(load).for_each(|(e, m)| *e += m * ag);
+    }
+    ext
 }

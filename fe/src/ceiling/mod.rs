@@ -1,0 +1,18 @@
+//! A shaking-table run of a generated ceiling: the specimen and parameter
+//! values ([`crate::generator`]), Rayleigh damping on its first x and y
+//! modes ([`damping`]), a base input in x and/or y ([`input`]) and sensors
+//! at plan positions ([`sensor`]) → modal frequencies and sensor histories
+//! ([`simulate`]).
+//!
+//! Units at this interface are SI as a measured-data bundle states them:
+//! m, s, m/s² (the FE model inside works in N, mm, s, t).
+
+pub mod damping;
+pub mod input;
+pub mod sensor;
+pub mod simulate;
+
+pub use damping::{rayleigh_on_first_modes, RayleighFit};
+pub use input::{sine_sweep, BaseInput, SineSweep};
+pub use sensor::{Direction, Sensor, SensorKind};
+pub use simulate::{simulate, CeilingError, SensorHistory, SimOptions, Simulation};
