@@ -47,15 +47,10 @@ fn slow_shaking_moves_the_ceiling_with_the_base() {
         sensor("ay", SensorKind::Acceleration, 1.8, 1.8, Direction::Y),
         sensor("dx", SensorKind::Displacement, 1.5, 1.8, Direction::X),
     ];
-    let sim = simulate(
-        &spec(),
-        &Parameters::prior_midpoints(),
-        &input,
-        &sensors,
-        &SimOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let opts =
+        SimOptions { spring_groups: vec!["perimeter_friction".into()], ..Default::default() };
+    let params = Parameters::prior_midpoints();
+    let sim = simulate(&spec(), &params, &input, &sensors, &opts, &mut |_| {}).unwrap();
     assert!(sim.freq_hz[0] > 2.0, "{:?}", sim.freq_hz);
     let ax = &sim.sensors[0].values;
     assert_eq!(ax.len(), 1200);
@@ -68,6 +63,13 @@ fn slow_shaking_moves_the_ceiling_with_the_base() {
     let w1 = 2.0 * std::f64::consts::PI * sim.rayleigh.fx_hz;
     let d = peak(&sim.sensors[2].values[400..]);
     assert!((d * w1 * w1 - 1.0).abs() < 0.1, "d {d} m, omega1^2 d = {}", d * w1 * w1);
+    // Elastic perimeter springs: peak force = K_friction x peak deformation;
+    // 5 cross-tee ends on each x wall and 5 y-line ends on each y wall.
+    let p = &sim.spring_peaks[0];
+    assert_eq!(p.count, 20);
+    let k = params.get("K_friction");
+    assert!((p.force_n - k * p.deformation_mm).abs() < 1e-9 * p.force_n, "{p:?}");
+    assert!((p.deformation_mm - 1e3 * peak(&sim.sensors[2].values)).abs() < 0.1 * p.deformation_mm);
 }
 
 #[test]

@@ -15,4 +15,4 @@ pub mod simulate;
 pub use damping::{rayleigh_on_first_modes, RayleighFit};
 pub use input::{sine_sweep, BaseInput, SineSweep};
 pub use sensor::{Direction, Sensor, SensorKind};
-pub use simulate::{simulate, CeilingError, SensorHistory, SimOptions, Simulation};
+pub use simulate::{simulate, CeilingError, SensorHistory, SimOptions, Simulation, SpringPeak};

@@ -7,10 +7,10 @@ use super::input::BaseInput;
 use super::sensor::{place, Placement, PlacementError, Sensor, SensorKind};
 use crate::eigen::{modal_analysis, EigenError, LanczosSettings};
 use crate::generator::{generate, CeilingSpec, GenerateError, Parameters};
-use crate::model::Damping;
+use crate::model::{Damping, Model};
 use crate::transient::spec::RecorderSpec;
 use crate::transient::{
-    run_plan, BaseMotion, GroundMotion, Plan, StepReport, TransientError, TransientOptions,
+    run_plan, BaseMotion, GroundMotion, History, Plan, StepReport, TransientError, TransientOptions,
 };
 
 /// Choices of a simulated run.
@@ -22,11 +22,14 @@ pub struct SimOptions {
     pub n_modes: usize,
     /// Integration steps per input sample (≥ 1).
     pub substeps: usize,
+    /// Spring groups whose peak deformation and force are reported
+    /// (e.g. `perimeter_friction`).
+    pub spring_groups: Vec<String>,
 }
 
 impl Default for SimOptions {
     fn default() -> Self {
-        SimOptions { damping_ratio: 0.05, n_modes: 6, substeps: 1 }
+        SimOptions { damping_ratio: 0.05, n_modes: 6, substeps: 1, spring_groups: vec![] }
     }
 }
 
@@ -52,6 +55,21 @@ pub struct Simulation {
     pub dt_s: f64,
     /// Sensor histories, in the order the sensors were given.
     pub sensors: Vec<SensorHistory>,
+    /// Peaks of the requested spring groups, in request order.
+    pub spring_peaks: Vec<SpringPeak>,
+}
+
+/// Largest |deformation| and |force| over a spring group and the run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpringPeak {
+    /// Group name.
+    pub group: String,
+    /// Springs in the group.
+    pub count: usize,
+    /// Peak |deformation| (mm).
+    pub deformation_mm: f64,
+    /// Peak |force| (N).
+    pub force_n: f64,
 }
 
 /// Why a run could not be simulated.
@@ -99,7 +117,9 @@ pub fn simulate(
         .iter()
         .map(|s| place(s, &model, spec.structure.module_m, nx, ny))
         .collect::<Result<_, _>>()?;
-    let recorders = recorder_specs(sensors, &placements);
+    let mut recorders = recorder_specs(sensors, &placements);
+    let n_sensor_cols = recorders.len();
+    let groups = spring_recorders(&model, &opts.spring_groups, &mut recorders);
     let base = base_motion(input);
     let plan = Plan {
         base: &base,
@@ -113,6 +133,7 @@ pub fn simulate(
     let hist =
         run_plan(&model, &plan, &TransientOptions::new(std::path::Path::new(".")), observer)?;
     let first = hist.columns.len() - recorders.len();
+    let spring_peaks = group_peaks(&hist, first + n_sensor_cols, &opts.spring_groups, &groups);
     let mut out = Vec::with_capacity(sensors.len());
     let mut col = first;
     for (s, p) in sensors.iter().zip(&placements) {
@@ -131,6 +152,7 @@ pub fn simulate(
         rayleigh,
         dt_s: input.dt_s,
         sensors: out,
+        spring_peaks,
     })
 }
 
@@ -197,4 +219,55 @@ fn base_motion(input: &BaseInput) -> BaseMotion {
         components.push(comp(2, y));
     }
     BaseMotion { components }
+}
+
+/// Deformation and force recorders for every spring of each group; returns
+/// the spring count per group.
+fn spring_recorders(model: &Model, groups: &[String], out: &mut Vec<RecorderSpec>) -> Vec<usize> {
+    groups
+        .iter()
+        .map(|g| {
+            let ids: Vec<u64> = model
+                .springs
+                .iter()
+                .filter(|s| s.group.as_deref() == Some(g.as_str()))
+                .map(|s| s.id)
+                .collect();
+            for id in &ids {
+                for response in ["deformation", "force"] {
+                    out.push(RecorderSpec {
+                        name: Some(format!("{g}#{id}_{response}")),
+                        node: None,
+                        dof: None,
+                        element: Some(*id),
+                        response: response.into(),
+                    });
+                }
+            }
+            ids.len()
+        })
+        .collect()
+}
+
+/// Peak |deformation| and |force| per group from the recorded columns.
+fn group_peaks(
+    hist: &History,
+    first: usize,
+    groups: &[String],
+    counts: &[usize],
+) -> Vec<SpringPeak> {
+    let mut col = first;
+    let mut out = Vec::new();
+    for (g, n) in groups.iter().zip(counts) {
+        let (mut d, mut f) = (0.0f64, 0.0f64);
+        for _ in 0..*n {
+            for r in &hist.rows {
+                d = d.max(r[col].abs());
+                f = f.max(r[col + 1].abs());
+            }
+            col += 2;
+        }
+        out.push(SpringPeak { group: g.clone(), count: *n, deformation_mm: d, force_n: f });
+    }
+    out
 }
