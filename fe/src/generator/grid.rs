@@ -1,9 +1,8 @@
 //! The grid builder: nodes on the module grid (room corners dropped), main
 //! tees and sub cross tees along y, cross tees along x, hanger rods fixed at
-//! the top, the semi-free perimeter (seed Table 4.5: each grid end slides
-//! along its own axis against a friction spring; perpendicular and vertical
-//! restraints 10 kN/mm; nonlinear variant adds the eq. 5.4 gap at the nominal
-//! gap) and panel masses lumped a quarter to each panel corner.
+//! the top, the semi-free perimeter ([`super::perimeter`]), the grid
+//! connections ([`super::connections`], none when rigid) and panel masses
+//! lumped a quarter to each panel corner.
 //!
 //! Numbering (the verification generator's scheme, so that generated files
 //! compare one to one): grid node (i, j) at (i·module, j·module, 0) has id
@@ -13,24 +12,17 @@
 //! Sections (seed Table 4.4, Table 6.1 names): main tee A_main, J_main,
 //! Iy_main, Iz 1000 mm⁴; cross tee A_cross, J_cross, Iy_cross, Iz_cross; sub
 //! cross tee 28 mm², J 4200, Iy 3000, Iz 650; rod M8 40 mm², I = A²/4π,
-//! J = 2I. Grid connections are continuous (rigid); the double layer's
+//! J = 2I. With `connections = "rigid"` the members are continuous through
+//! the joints and the model is numbered exactly as above; the double layer's
 //! carrying channels are not modelled (the rods end at the main tees).
 
 use serde_json::json;
 
-use super::params::Parameters;
-use super::spec::{CeilingSpec, Variant};
-use crate::materials::MaterialSpec;
-use crate::model::{
-    validate, Analysis, Beam, Fixity, Mass, MaterialDef, Model, ModelError, Node, Spring, Units,
-};
-
-/// Perpendicular and vertical perimeter restraint (N/mm).
-const RESTRAINT_N_PER_MM: f64 = 10000.0;
-/// Perimeter friction yield force (N, seed 5.1.1).
-const FRICTION_FY_N: f64 = 2.0;
-/// Gap contact stiffness 0.4 EA/L of main, cross and sub cross tees (N/mm, seed 5.1.2).
-const GAP_K_N_PER_MM: [f64; 3] = [588.0, 217.0, 433.0];
+use super::connections::connections;
+use super::params::{parameters_for, ParamError, Parameters};
+use super::perimeter::perimeter;
+use super::spec::CeilingSpec;
+use crate::model::{validate, Analysis, Beam, Fixity, Mass, Model, ModelError, Node, Units};
 
 /// Why a model could not be generated.
 #[derive(Debug, thiserror::Error)]
@@ -38,37 +30,53 @@ pub enum GenerateError {
     /// The generated model broke a rule of the format (a generator bug).
     #[error("generated model is invalid: {0}")]
     Invalid(#[from] ModelError),
+    /// A parameter value given that the specimen's model variant does not use.
+    #[error(transparent)]
+    Parameter(#[from] ParamError),
 }
 
 /// Member kinds of the grid.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Member {
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Member {
     Main,
     Cross,
     Sub,
 }
 
 impl Member {
-    fn name(self) -> &'static str {
+    /// Group name of its beams.
+    pub(super) fn name(self) -> &'static str {
         match self {
             Member::Main => "main_tee",
             Member::Cross => "cross_tee",
             Member::Sub => "sub_cross_tee",
         }
     }
+    /// Position in (main, cross, sub) order.
+    pub(super) fn index(self) -> u64 {
+        match self {
+            Member::Main => 0,
+            Member::Cross => 1,
+            Member::Sub => 2,
+        }
+    }
 }
 
 /// Grid geometry in module counts.
-struct Grid {
-    nx: usize,
-    ny: usize,
-    module_mm: f64,
+pub(super) struct Grid {
+    /// Modules along x.
+    pub(super) nx: usize,
+    /// Modules along y.
+    pub(super) ny: usize,
+    /// Module (mm).
+    pub(super) module_mm: f64,
     main_every: usize,
     rod_every: usize,
 }
 
 impl Grid {
-    fn id(&self, i: usize, j: usize) -> u64 {
+    /// Id of grid node (i, j).
+    pub(super) fn id(&self, i: usize, j: usize) -> u64 {
         (1 + i + (self.nx + 1) * j) as u64
     }
     fn exists(&self, i: usize, j: usize) -> bool {
@@ -76,7 +84,8 @@ impl Grid {
         let edge_y = j == 0 || j == self.ny;
         !(edge_x && edge_y)
     }
-    fn y_line(&self, i: usize) -> Member {
+    /// The member along y-line i (1 <= i < nx).
+    pub(super) fn y_line(&self, i: usize) -> Member {
         if (i - 1) % self.main_every == 0 {
             Member::Main
         } else {
@@ -85,8 +94,12 @@ impl Grid {
     }
 }
 
-/// Builds the model of a specimen with the given parameter values.
+/// Builds the model of a specimen with the given parameter values; a
+/// parameter the variant uses and `params` lacks takes its prior mid-point
+/// (the seed's value for the extension parameters); a value for a parameter
+/// the variant does not use is refused.
 pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, GenerateError> {
+    check_used(spec, params)?;
     let s = &spec.structure;
     let module_mm = s.module_m * 1000.0;
     let ratio = |a: f64| (a / s.module_m).round() as usize;
@@ -103,13 +116,26 @@ pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, Genera
     cross_tees(&g, params, &mut m);
     let rod_tops = rods(&g, params, s.hanger_length_m * 1000.0, &mut m);
     let walls = perimeter(&g, spec, params, &mut m);
+    let pieces = connections(&g, spec, params, &mut m);
     masses(&g, s.panel_mass_kg * 1e-3, &mut m);
-    m.nodes.extend(walls.iter().chain(&rod_tops).copied());
+    m.nodes.extend(walls.iter().chain(&rod_tops).chain(&pieces).copied());
     m.fixities =
         walls.iter().chain(&rod_tops).map(|n| Fixity { node: n.id, fixed: [true; 6] }).collect();
     m.meta = Some(meta(spec, params, &g, &m));
     validate(&m)?;
     Ok(m)
+}
+
+/// Refuses values of parameters the specimen's variant does not use.
+fn check_used(spec: &CeilingSpec, params: &Parameters) -> Result<(), ParamError> {
+    let used = parameters_for(spec);
+    let mut probe = Parameters::prior_midpoints_for(spec);
+    for (name, value) in params.iter() {
+        if !used.iter().any(|p| p.name == name) {
+            probe.set(name, value)?;
+        }
+    }
+    Ok(())
 }
 
 fn empty(spec: &CeilingSpec) -> Model {
@@ -150,9 +176,10 @@ fn grid_nodes(g: &Grid, m: &mut Model) {
 
 /// Section (A, J, Iy, Iz) of a member from the parameters.
 fn section(member: Member, p: &Parameters) -> [f64; 4] {
+    let v = |name| p.value_or_midpoint(name);
     match member {
-        Member::Main => [p.get("A_main"), p.get("J_main"), p.get("Iy_main"), 1000.0],
-        Member::Cross => [p.get("A_cross"), p.get("J_cross"), p.get("Iy_cross"), p.get("Iz_cross")],
+        Member::Main => [v("A_main"), v("J_main"), v("Iy_main"), 1000.0],
+        Member::Cross => [v("A_cross"), v("J_cross"), v("Iy_cross"), v("Iz_cross")],
         Member::Sub => [28.0, 4200.0, 3000.0, 650.0],
     }
 }
@@ -172,8 +199,8 @@ fn push_beam(
         i,
         j,
         area_mm2: sec[0],
-        e_mpa: p.get("E"),
-        g_mpa: p.get("G"),
+        e_mpa: p.value_or_midpoint("E"),
+        g_mpa: p.value_or_midpoint("G"),
         j_mm4: sec[1],
         iy_mm4: sec[2],
         iz_mm4: sec[3],
@@ -224,65 +251,6 @@ fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> Vec<Node> {
     tops
 }
 
-/// Materials, wall nodes and springs of the semi-free perimeter.
-fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Vec<Node> {
-    let k_f = p.get("K_friction");
-    let gap = spec.structure.nominal_gap_mm;
-    let mut mats =
-        vec![MaterialSpec::Elastic { k: k_f }, MaterialSpec::Elastic { k: RESTRAINT_N_PER_MM }];
-    let nonlinear = spec.model.variant == Variant::Nonlinear;
-    if nonlinear {
-        mats.push(MaterialSpec::Steel01 { fy: FRICTION_FY_N, e0: k_f, b: 0.05 });
-        mats.extend(GAP_K_N_PER_MM.map(|k| MaterialSpec::Gap { k, gap }));
-    }
-    m.materials = mats
-        .into_iter()
-        .enumerate()
-        .map(|(k, spec)| MaterialDef { id: k as u64 + 1, spec })
-        .collect();
-    // (grid i, grid j, along-axis dof, wall is node i, side, member)
-    let mut ends = vec![];
-    for (j, side, wall_first) in [(0, "y0", true), (g.ny, "y1", false)] {
-        ends.extend((1..g.nx).map(|i| (i, j, 2u8, wall_first, side, g.y_line(i))));
-    }
-    for (i, side, wall_first) in [(0, "x0", true), (g.nx, "x1", false)] {
-        ends.extend((1..g.ny).map(|j| (i, j, 1u8, wall_first, side, Member::Cross)));
-    }
-    let mut walls = vec![];
-    for (i, j, axial, wall_first, side, member) in ends {
-        let grid = g.id(i, j);
-        let wall = 100000 + grid;
-        walls
-            .push(Node { id: wall, xyz_mm: [i as f64 * g.module_mm, j as f64 * g.module_mm, 0.0] });
-        let (a, b) = if wall_first { (wall, grid) } else { (grid, wall) };
-        let perpendicular = if axial == 1 { 2 } else { 1 };
-        let gap_mat = 4 + [Member::Main, Member::Cross, Member::Sub]
-            .iter()
-            .position(|x| *x == member)
-            .unwrap_or(0) as u64;
-        let mut list = vec![(axial, if nonlinear { 3 } else { 1 }, "perimeter_friction")];
-        if nonlinear {
-            list.push((axial, gap_mat, "perimeter_gap"));
-        }
-        list.push((perpendicular, 2, "perimeter_perpendicular"));
-        list.push((3, 2, "perimeter_vertical"));
-        for (dof, mat, group) in list {
-            m.springs.push(Spring {
-                id: 100001 + m.springs.len() as u64,
-                i: a,
-                j: b,
-                dof,
-                mat,
-                rayleigh: group != "perimeter_gap",
-                group: Some(group.into()),
-                side: Some(side.into()),
-                member: Some(member.name().into()),
-            });
-        }
-    }
-    walls
-}
-
 /// A quarter of each panel's mass on each existing corner node (t).
 fn masses(g: &Grid, panel_t: f64, m: &mut Model) {
     let mut node_t = vec![0.0; (g.nx + 1) * (g.ny + 1)];
@@ -308,17 +276,35 @@ fn masses(g: &Grid, panel_t: f64, m: &mut Model) {
 fn meta(spec: &CeilingSpec, p: &Parameters, g: &Grid, m: &Model) -> serde_json::Value {
     let params: serde_json::Map<String, serde_json::Value> =
         p.iter().map(|(k, v)| (k.to_string(), json!(v))).collect();
-    let mut notes = vec!["grid connections continuous (rigid); K_rod, K_cc1-3, K_mc not modelled"];
+    let defaulted: serde_json::Map<String, serde_json::Value> = parameters_for(spec)
+        .iter()
+        .filter(|i| p.get(i.name).is_nan())
+        .map(|i| (i.name.to_string(), json!(i.midpoint())))
+        .collect();
+    let model = spec.model;
+    let mut notes = vec![if model.connections == super::spec::Connections::Rigid {
+        "grid connections continuous (rigid); K_rod, K_cc1-3, K_mc not modelled"
+    } else {
+        "grid connections as zero-length springs (K_cc1-3 tee joints, K_mc splices); K_rod not modelled"
+    }];
     if spec.structure.layers == 2 {
         notes.push("layers = 2: carrying channels not modelled; rods end at the main tees");
     }
+    let variant = match (model.perimeter, model.connections) {
+        (super::spec::Perimeter::Linear, super::spec::Connections::Rigid) => "linear",
+        (super::spec::Perimeter::FrictionPounding, super::spec::Connections::Rigid) => "nonlinear",
+        _ => "extended",
+    };
     json!({
         "generator": "ceilfarm fe mesh",
         "Lx": g.nx as f64 * g.module_mm, "Ly": g.ny as f64 * g.module_mm, "module": g.module_mm,
         "nx_modules": g.nx, "ny_modules": g.ny,
-        "variant": if spec.model.variant == Variant::Nonlinear { "nonlinear" } else { "linear" },
+        "variant": variant,
+        "perimeter": model.perimeter.name(),
+        "connections": model.connections.name(),
         "layers": spec.structure.layers,
         "parameters": params,
+        "parameters_at_midpoint": defaulted,
         "n_nodes": m.nodes.len(), "n_beams": m.beams.len(), "n_springs": m.springs.len(),
         "mass_total_t": m.masses.iter().map(|x| x.m_t[0]).sum::<f64>(),
         "notes": notes,

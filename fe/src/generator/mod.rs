@@ -1,16 +1,25 @@
 //! Specimen description → full `ceiling-fe-model`: the `[structure]` table of
-//! the measured-data bundle ([`spec`]), the 15 calibration parameters of seed
-//! Table 6.1 with their units ([`params`]), and the grid builder ([`grid`]).
+//! the measured-data bundle and the `[model]` variant choices ([`spec`]), the
+//! 15 calibration parameters of seed Table 6.1 and the variants' extension
+//! parameters with their units and priors ([`params`]), and the builders:
+//! grid ([`grid`]), perimeter ([`perimeter`]), grid connections
+//! ([`connections`]).
 //!
 //! ```no_run
 //! let spec = fe::generator::CeilingSpec::from_toml_file(std::path::Path::new("configs/specimens/type-c.toml")).unwrap();
-//! let model = fe::generator::generate(&spec, &fe::generator::Parameters::prior_midpoints()).unwrap();
+//! let model = fe::generator::generate(&spec, &fe::generator::Parameters::prior_midpoints_for(&spec)).unwrap();
 //! ```
 
+pub mod connections;
 pub mod grid;
 pub mod params;
+pub mod perimeter;
 pub mod spec;
 
 pub use grid::{generate, GenerateError};
-pub use params::{ParamError, Parameters, PARAMETERS};
-pub use spec::{Boundary, CeilingSpec, SpecError, Variant};
+pub use params::{
+    param_info, parameters_for, Domain, ParamError, ParamInfo, Parameters, EXTENSIONS, PARAMETERS,
+};
+pub use spec::{
+    Boundary, CeilingSpec, Connections, ModelOptions, Perimeter, SpecError, Structure, Variant,
+};

@@ -1,6 +1,8 @@
 //! The specimen as built: the `[structure]` table of the measured-data bundle
 //! (`shared/spec/measured-bundle.md`; metres, kg, mm as named) plus an
-//! optional `[model]` table choosing linear or nonlinear perimeter springs.
+//! optional `[model]` table choosing the model variant: the perimeter law
+//! (`perimeter`) and the grid-connection law (`connections`), or the older
+//! shorthand `variant`.
 
 use std::path::{Path, PathBuf};
 
@@ -14,15 +16,75 @@ pub enum Boundary {
     SemiFree,
 }
 
-/// Which perimeter springs to write.
+/// Which perimeter springs to write (shorthand kept from the first format).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum Variant {
-    /// Elastic along-axis friction spring (K_friction).
+    /// Elastic along-axis friction spring (K_friction): `perimeter = "linear"`.
     #[default]
     Linear,
-    /// Steel01 friction (2 N, K_friction, b 0.05) plus the eq. 5.4 gap.
+    /// Steel01 friction plus the eq. 5.4 gap: `perimeter = "friction-pounding"`.
     Nonlinear,
+}
+
+/// The along-axis law of each perimeter grid end (seed 5.1.1, 5.1.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Perimeter {
+    /// Elastic friction spring K_friction, no contact.
+    #[default]
+    Linear,
+    /// Steel01 friction: Fy `friction_fy_N`, E0 K_friction, b `friction_b`.
+    Friction,
+    /// Elastic friction spring plus the eq. 5.4 gap (`gap_ratio`, `impact_factor`).
+    Pounding,
+    /// Steel01 friction plus the eq. 5.4 gap.
+    FrictionPounding,
+}
+
+impl Perimeter {
+    /// Whether the friction spring is Steel01.
+    pub fn has_friction(self) -> bool {
+        matches!(self, Perimeter::Friction | Perimeter::FrictionPounding)
+    }
+    /// Whether gap contact springs are written.
+    pub fn has_pounding(self) -> bool {
+        matches!(self, Perimeter::Pounding | Perimeter::FrictionPounding)
+    }
+    /// The name as the `[model]` table writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Perimeter::Linear => "linear",
+            Perimeter::Friction => "friction",
+            Perimeter::Pounding => "pounding",
+            Perimeter::FrictionPounding => "friction-pounding",
+        }
+    }
+}
+
+/// The law of the grid connections (main-cross and cross-sub cross tee
+/// joints, main-tee splices).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Connections {
+    /// Continuous members through the joints (no connection springs).
+    #[default]
+    Rigid,
+    /// Zero-length elastic springs K_cc1-3 (tee joints) and K_mc (splices).
+    Elastic,
+    /// As `elastic`, with the tee joints' axial spring a scaled CJS-A Pinching4.
+    Pinching4,
+}
+
+impl Connections {
+    /// The name as the `[model]` table writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Connections::Rigid => "rigid",
+            Connections::Elastic => "elastic",
+            Connections::Pinching4 => "pinching4",
+        }
+    }
 }
 
 /// The `[structure]` table (nominal values).
@@ -56,13 +118,65 @@ fn two() -> u8 {
     2
 }
 
-/// The `[model]` table.
-#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+/// The `[model]` table as written: `variant` is the older shorthand for
+/// `perimeter` and may not be given with it.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-pub struct ModelOptions {
-    /// Linear or nonlinear perimeter springs.
+struct ModelTable {
     #[serde(default)]
-    pub variant: Variant,
+    variant: Option<Variant>,
+    #[serde(default)]
+    perimeter: Option<Perimeter>,
+    #[serde(default)]
+    connections: Connections,
+}
+
+/// The `[model]` table: which model variant to build (defaults: linear
+/// perimeter, rigid connections).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(try_from = "ModelTable")]
+pub struct ModelOptions {
+    /// Along-axis law at the perimeter.
+    pub perimeter: Perimeter,
+    /// Law of the grid connections.
+    pub connections: Connections,
+}
+
+impl TryFrom<ModelTable> for ModelOptions {
+    type Error = String;
+    fn try_from(t: ModelTable) -> Result<Self, String> {
+        let perimeter = match (t.variant, t.perimeter) {
+            (Some(_), Some(_)) => {
+                return Err("model: `variant` and `perimeter` given together; \
+                            expected one (variant = \"nonlinear\" is perimeter = \"friction-pounding\")"
+                    .into())
+            }
+            (Some(v), None) => Perimeter::from(v),
+            (None, Some(p)) => p,
+            (None, None) => Perimeter::default(),
+        };
+        Ok(ModelOptions { perimeter, connections: t.connections })
+    }
+}
+
+impl From<Variant> for Perimeter {
+    fn from(v: Variant) -> Self {
+        match v {
+            Variant::Linear => Perimeter::Linear,
+            Variant::Nonlinear => Perimeter::FrictionPounding,
+        }
+    }
+}
+
+impl ModelOptions {
+    /// A variant from its two choices.
+    pub fn new(perimeter: Perimeter, connections: Connections) -> Self {
+        ModelOptions { perimeter, connections }
+    }
+    /// The older shorthand: `nonlinear` is friction-pounding, rigid connections.
+    pub fn from_variant(variant: Variant) -> Self {
+        ModelOptions { perimeter: variant.into(), connections: Connections::Rigid }
+    }
 }
 
 /// A specimen file: `[structure]` plus optional `[model]`; other tables of a
@@ -108,6 +222,18 @@ pub enum SpecError {
 }
 
 impl CeilingSpec {
+    /// A specimen from its structure and model choices, checked.
+    pub fn new(structure: Structure, model: ModelOptions) -> Result<Self, SpecError> {
+        let spec = CeilingSpec { structure, model };
+        spec.check()?;
+        Ok(spec)
+    }
+
+    /// The same structure with other model choices.
+    pub fn with_model(&self, model: ModelOptions) -> Self {
+        CeilingSpec { structure: self.structure.clone(), model }
+    }
+
     /// Reads and checks a specimen TOML file.
     pub fn from_toml_file(path: &Path) -> Result<Self, SpecError> {
         let text = std::fs::read_to_string(path)

@@ -1,0 +1,103 @@
+//! The semi-free perimeter (seed Table 4.5): each grid end slides along its
+//! own axis against a friction spring and may pound the wall angle across
+//! the gap; perpendicular and vertical restraints are 10 kN/mm.
+//!
+//! Along-axis laws by `[model] perimeter`:
+//! - `linear`: Elastic K_friction;
+//! - `friction`: Steel01 (Fy `friction_fy_N`, E0 K_friction, b `friction_b`;
+//!   seed 5.1.1: 2 N, 20 N/mm, 0.05);
+//! - `pounding`: Elastic K_friction plus the eq. 5.4 Gap with gap
+//!   `gap_ratio` × nominal gap and k `impact_factor` × 0.4 EA/L (588, 217,
+//!   433 N/mm for main, cross and sub cross tees, seed 5.1.2);
+//! - `friction-pounding`: Steel01 plus the Gap (the seed's nonlinear model).
+//!
+//! Materials: 1 Elastic K_friction, 2 the restraint, then Steel01 if
+//! friction, then the three Gaps if pounding. Springs (ids from 100001) per
+//! end: friction, gap, perpendicular, vertical; the wall node is i on the
+//! x = 0 / y = 0 walls and j on the far walls, so motion towards a wall is
+//! d < 0. Gap springs carry no Rayleigh damping. Units: N, mm.
+
+use super::grid::{Grid, Member};
+use super::params::Parameters;
+use super::spec::CeilingSpec;
+use crate::materials::MaterialSpec;
+use crate::model::{MaterialDef, Model, Node, Spring};
+
+/// Perpendicular and vertical perimeter restraint (N/mm).
+pub const RESTRAINT_N_PER_MM: f64 = 10000.0;
+/// Gap contact stiffness 0.4 EA/L of main, cross and sub cross tees (N/mm, seed 5.1.2).
+pub const GAP_K_N_PER_MM: [f64; 3] = [588.0, 217.0, 433.0];
+
+/// The perimeter materials in id order (from 1).
+fn materials(spec: &CeilingSpec, p: &Parameters) -> Vec<MaterialSpec> {
+    let k_f = p.value_or_midpoint("K_friction");
+    let per = spec.model.perimeter;
+    let mut mats =
+        vec![MaterialSpec::Elastic { k: k_f }, MaterialSpec::Elastic { k: RESTRAINT_N_PER_MM }];
+    if per.has_friction() {
+        let fy = p.value_or_midpoint("friction_fy_N");
+        mats.push(MaterialSpec::Steel01 { fy, e0: k_f, b: p.value_or_midpoint("friction_b") });
+    }
+    if per.has_pounding() {
+        let gap = p.value_or_midpoint("gap_ratio") * spec.structure.nominal_gap_mm;
+        let factor = p.value_or_midpoint("impact_factor");
+        mats.extend(GAP_K_N_PER_MM.map(|k| MaterialSpec::Gap { k: factor * k, gap }));
+    }
+    mats
+}
+
+/// One grid end at the wall: grid (i, j), along-axis DOF, whether the wall
+/// node is spring node i, wall side, member.
+type End = (usize, usize, u8, bool, &'static str, Member);
+
+fn ends(g: &Grid) -> Vec<End> {
+    let mut ends = vec![];
+    for (j, side, wall_first) in [(0, "y0", true), (g.ny, "y1", false)] {
+        ends.extend((1..g.nx).map(|i| (i, j, 2u8, wall_first, side, g.y_line(i))));
+    }
+    for (i, side, wall_first) in [(0, "x0", true), (g.nx, "x1", false)] {
+        ends.extend((1..g.ny).map(|j| (i, j, 1u8, wall_first, side, Member::Cross)));
+    }
+    ends
+}
+
+/// Materials, wall nodes and springs of the semi-free perimeter; returns the wall nodes.
+pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Vec<Node> {
+    m.materials = materials(spec, p)
+        .into_iter()
+        .enumerate()
+        .map(|(k, spec)| MaterialDef { id: k as u64 + 1, spec })
+        .collect();
+    let per = spec.model.perimeter;
+    let friction_mat = if per.has_friction() { 3 } else { 1 };
+    let first_gap = 3 + u64::from(per.has_friction());
+    let mut walls = vec![];
+    for (i, j, axial, wall_first, side, member) in ends(g) {
+        let grid = g.id(i, j);
+        let wall = 100000 + grid;
+        let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, 0.0];
+        walls.push(Node { id: wall, xyz_mm });
+        let (a, b) = if wall_first { (wall, grid) } else { (grid, wall) };
+        let perpendicular = if axial == 1 { 2 } else { 1 };
+        let mut list = vec![(axial, friction_mat, "perimeter_friction")];
+        if per.has_pounding() {
+            list.push((axial, first_gap + member.index(), "perimeter_gap"));
+        }
+        list.push((perpendicular, 2, "perimeter_perpendicular"));
+        list.push((3, 2, "perimeter_vertical"));
+        for (dof, mat, group) in list {
+            m.springs.push(Spring {
+                id: 100001 + m.springs.len() as u64,
+                i: a,
+                j: b,
+                dof,
+                mat,
+                rayleigh: group != "perimeter_gap",
+                group: Some(group.into()),
+                side: Some(side.into()),
+                member: Some(member.name().into()),
+            });
+        }
+    }
+    walls
+}
