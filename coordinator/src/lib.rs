@@ -13,6 +13,7 @@ pub mod export;
 pub mod export_parquet;
 pub mod farm;
 pub mod progress;
+pub mod report;
 pub mod store;
 pub mod study;
 pub mod sweep;
