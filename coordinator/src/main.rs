@@ -46,6 +46,10 @@ enum Command {
     Gp(commands::gp::GpCommand),
     /// Sobol' sensitivity indices of a function or a GP emulator of a dataset.
     Sobol(commands::sobol::Args),
+    /// Diagnose a measured-data bundle: name what the model misses, extend it, measure the gain.
+    Diagnose(commands::diagnose::Args),
+    /// Simulate a shaking-table campaign and write it as a measured-data bundle.
+    Synth(commands::synth::Args),
 }
 
 fn init_logging(verbose: u8) {
@@ -75,6 +79,8 @@ fn main() -> std::process::ExitCode {
         Command::Select(a) => commands::select::run(a),
         Command::Gp(c) => commands::gp::run(c),
         Command::Sobol(a) => commands::sobol::run(a),
+        Command::Synth(a) => commands::synth::run(a),
+        Command::Diagnose(a) => commands::diagnose::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

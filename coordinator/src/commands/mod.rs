@@ -2,9 +2,11 @@
 
 pub mod bundle;
 pub mod calibrate;
+pub mod diagnose;
 pub mod fe;
 pub mod gp;
 pub mod select;
 pub mod sobol;
+pub mod synth;
 pub mod sweep;
 pub mod worker;

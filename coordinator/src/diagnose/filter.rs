@@ -26,6 +26,23 @@ impl Biquad {
         Some(Self { b, a })
     }
 
+    /// Butterworth low-pass with corner `fc_hz` at sampling step `dt_s`.
+    ///
+    /// `None` unless `0 < fc_hz < ` the Nyquist frequency.
+    pub fn low_pass(fc_hz: f64, dt_s: f64) -> Option<Self> {
+        let nyquist = 0.5 / dt_s;
+        if !(fc_hz > 0.0 && fc_hz < nyquist && dt_s > 0.0) {
+            return None;
+        }
+        let w0 = 2.0 * std::f64::consts::PI * fc_hz * dt_s;
+        let (sin, cos) = w0.sin_cos();
+        let alpha = sin / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
+        let a0 = 1.0 + alpha;
+        let b = [(1.0 - cos) / 2.0 / a0, (1.0 - cos) / a0, (1.0 - cos) / 2.0 / a0];
+        let a = [-2.0 * cos / a0, (1.0 - alpha) / a0];
+        Some(Self { b, a })
+    }
+
     /// Filters `x` forward then backward (zero phase, squared magnitude).
     pub fn filtfilt(&self, x: &[f64]) -> Vec<f64> {
         let mut y = self.run(x.iter().copied());
@@ -79,5 +96,21 @@ mod tests {
         assert!(Biquad::high_pass(0.0, 0.01).is_none());
         assert!(Biquad::high_pass(50.0, 0.01).is_none());
         assert!(Biquad::high_pass(10.0, 0.0).is_none());
+    }
+
+    #[test]
+    fn low_pass_mirrors_high_pass() {
+        let dt = 1.0 / 200.0;
+        let rms = |f_hz: f64| {
+            let x: Vec<f64> = (0..4000)
+                .map(|i| (2.0 * std::f64::consts::PI * f_hz * i as f64 * dt).sin())
+                .collect();
+            let y = Biquad::low_pass(20.0, dt).unwrap().filtfilt(&x);
+            let mid = &y[1000..3000];
+            (mid.iter().map(|v| v * v).sum::<f64>() / mid.len() as f64).sqrt()
+        };
+        assert!((rms(20.0) * std::f64::consts::SQRT_2 - 0.5).abs() < 0.01);
+        assert!((rms(2.0) * std::f64::consts::SQRT_2 - 1.0).abs() < 1e-3);
+        assert!(rms(80.0) < 0.01);
     }
 }

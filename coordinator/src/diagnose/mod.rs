@@ -4,9 +4,16 @@
 //! Every kernel here works on plain sample slices (SI units, uniform step
 //! `dt_s`) so that measured and simulated runs are judged by the same code.
 
+pub mod cause;
+pub mod calibrate;
 pub mod filter;
+pub mod fit;
+pub mod mdl;
+pub mod pipeline;
+pub mod report;
 pub mod spectrum;
 pub mod symptoms;
+pub mod verdict;
 
 #[cfg(test)]
 mod testkit;

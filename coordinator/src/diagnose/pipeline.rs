@@ -1,0 +1,233 @@
+//! The diagnosis of a bundle, end to end: split the runs, calibrate the
+//! baseline and every extension on the calibration runs, weigh them by MDL,
+//! pick the cause (`none` when no extension earns its complexity), and
+//! measure each calibrated variant on the validation runs.
+
+use super::calibrate::{calibrate, Budget, Calibration};
+use super::cause::Cause;
+use super::fit::{effective_sizes, mean_nrmse, Evaluation, Simulated};
+use super::mdl::{laplace_sd, mdl, Mdl};
+use crate::bundle::{Bundle, RunRole};
+
+/// Choices of a diagnosis.
+#[derive(Debug, Clone)]
+pub struct DiagnoseOptions {
+    /// FE budget of each variant's calibration.
+    pub budget: Budget,
+    /// Variants tried (the baseline is always tried).
+    pub candidates: Vec<Cause>,
+}
+
+impl Default for DiagnoseOptions {
+    fn default() -> Self {
+        DiagnoseOptions { budget: Budget::default(), candidates: Cause::ALL.to_vec() }
+    }
+}
+
+/// A calibrated parameter: name, unit, estimate and Laplace spread.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimate {
+    /// Name.
+    pub name: String,
+    /// Unit.
+    pub unit: String,
+    /// Best value found.
+    pub value: f64,
+    /// Laplace standard deviation in unit-cube coordinates.
+    pub sd_unit: f64,
+    /// Approximate 68 % interval (physical units).
+    pub interval: (f64, f64),
+}
+
+/// One variant's outcome.
+#[derive(Debug, Clone)]
+pub struct CandidateResult {
+    /// The variant.
+    pub cause: Cause,
+    /// Its MDL (None when the calibration failed everywhere).
+    pub mdl: Option<Mdl>,
+    /// Calibrated parameters.
+    pub estimates: Vec<Estimate>,
+    /// FE parameter points spent (each running every calibration run).
+    pub fe_points: usize,
+    /// Points whose simulation failed.
+    pub failed_points: usize,
+    /// Mean normalised error on the calibration runs at the estimate.
+    pub calibration_error: f64,
+    /// Mean normalised error on the validation runs at the estimate.
+    pub validation_error: f64,
+    /// The validation runs simulated at the estimate.
+    pub validation_sims: Vec<Simulated>,
+    /// Whether it was selected.
+    pub selected: bool,
+}
+
+/// The whole diagnosis.
+#[derive(Debug, Clone)]
+pub struct Diagnosis {
+    /// Bundle name.
+    pub bundle: String,
+    /// The cause named.
+    pub cause: Cause,
+    /// Every variant, the baseline first.
+    pub candidates: Vec<CandidateResult>,
+    /// Runs used for calibration (indices into the bundle's runs).
+    pub calibration_runs: Vec<usize>,
+    /// Runs used for validation.
+    pub validation_runs: Vec<usize>,
+    /// Baseline error on the validation runs.
+    pub baseline_validation_error: f64,
+    /// Selected variant's error on the validation runs.
+    pub extended_validation_error: f64,
+    /// 1 − extended / baseline.
+    pub gain: f64,
+    /// FE parameter points spent in all.
+    pub fe_points: usize,
+}
+
+/// Splits runs by role; without roles, the last run validates.
+pub fn split_runs(b: &Bundle) -> (Vec<usize>, Vec<usize>) {
+    let roles: Vec<Option<RunRole>> = b.manifest.runs.iter().map(|r| r.role).collect();
+    let n = roles.len();
+    if roles.iter().all(Option::is_none) {
+        return if n >= 2 { ((0..n - 1).collect(), vec![n - 1]) } else { (vec![0], vec![0]) };
+    }
+    let val: Vec<usize> = (0..n).filter(|k| roles[*k] == Some(RunRole::Validation)).collect();
+    let cal: Vec<usize> = (0..n).filter(|k| roles[*k] != Some(RunRole::Validation)).collect();
+    match (cal.is_empty(), val.is_empty()) {
+        (true, _) => (val.clone(), val),
+        (false, true) => (cal.clone(), cal),
+        _ => (cal, val),
+    }
+}
+
+/// Diagnoses a bundle; `progress` hears (stage, done, planned).
+pub fn diagnose(
+    b: &Bundle,
+    opts: &DiagnoseOptions,
+    progress: &mut dyn FnMut(&str, usize, usize),
+) -> Result<Diagnosis, String> {
+    let (cal_runs, val_runs) = split_runs(b);
+    let n_eff0 = midpoint_weights(b, &cal_runs)?;
+    let stage = "calibrating none (baseline)";
+    let base = calibrate(b, Cause::None, &cal_runs, &n_eff0, &opts.budget, None, &mut |d, n| {
+        progress(stage, d, n)
+    });
+    let base_best = base.best(&n_eff0).ok_or("the baseline failed at every design point")?;
+    let base_u = base.points[base_best].u.clone();
+    let mut cals: Vec<Calibration> = vec![base];
+    for c in opts.candidates.iter().copied().filter(|c| *c != Cause::None) {
+        let stage = format!("calibrating {}", c.as_str());
+        let cal = calibrate(b, c, &cal_runs, &n_eff0, &opts.budget, Some(&base_u), &mut |d, n| {
+            progress(&stage, d, n)
+        });
+        cals.push(cal);
+    }
+    let n_eff = match &cals[0].points[base_best].fit {
+        Ok(ch) => effective_sizes(ch),
+        Err(e) => return Err(e.clone()),
+    };
+    let mut results = Vec::new();
+    let mut held = Held { geometric: (0.0, 0.0), sd: vec![] };
+    for (k, cal) in cals.iter().enumerate() {
+        progress("validating", k, cals.len());
+        let r = assess(b, cal, &n_eff, &val_runs, &held);
+        if k == 0 {
+            held = Held {
+                geometric: r.mdl.as_ref().map_or((0.0, 0.0), |m| (m.geometric, m.geometric_se)),
+                sd: r.estimates.iter().map(|e| e.sd_unit).collect(),
+            };
+        }
+        results.push(r);
+    }
+    let pick = (0..results.len())
+        .filter(|k| results[*k].mdl.is_some())
+        .min_by(|a, b| {
+            let m = |k: usize| results[k].mdl.as_ref().map_or(f64::INFINITY, |m| m.total);
+            m(*a).total_cmp(&m(*b))
+        })
+        .unwrap_or(0);
+    results[pick].selected = true;
+    let base = results[0].validation_error;
+    let ext = results[pick].validation_error;
+    Ok(Diagnosis {
+        bundle: b.manifest.name.clone(),
+        cause: results[pick].cause,
+        fe_points: results.iter().map(|r| r.fe_points).sum::<usize>() + 1,
+        candidates: results,
+        calibration_runs: cal_runs,
+        validation_runs: val_runs,
+        baseline_validation_error: base,
+        extended_validation_error: ext,
+        gain: if pick == 0 { 0.0 } else { 1.0 - ext / base },
+    })
+}
+
+/// Channel weights from the baseline at its prior mid-point.
+fn midpoint_weights(b: &Bundle, runs: &[usize]) -> Result<Vec<f64>, String> {
+    let priors = Cause::None.priors();
+    let ev = Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs };
+    let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
+    let sims = ev.simulate(&theta)?;
+    Ok(effective_sizes(&ev.channels(&sims)))
+}
+
+/// What an extension takes from the baseline for the parameters it held.
+struct Held {
+    geometric: (f64, f64),
+    sd: Vec<f64>,
+}
+
+/// MDL, estimates and validation error of one calibrated variant.
+fn assess(
+    b: &Bundle,
+    cal: &Calibration,
+    n_eff: &[f64],
+    val_runs: &[usize],
+    held: &Held,
+) -> CandidateResult {
+    let gp = cal.emulator(n_eff);
+    let m = mdl(cal, gp.as_ref(), n_eff, held.geometric);
+    let failed = cal.points.iter().filter(|p| p.fit.is_err()).count();
+    let mut out = CandidateResult {
+        cause: cal.cause,
+        mdl: m,
+        estimates: vec![],
+        fe_points: cal.fe_points(),
+        failed_points: failed,
+        calibration_error: f64::NAN,
+        validation_error: f64::NAN,
+        validation_sims: vec![],
+        selected: false,
+    };
+    let Some(best) = cal.best(n_eff) else { return out };
+    let u = &cal.points[best].u;
+    let free_u: Vec<f64> = cal.free.iter().map(|i| u[*i]).collect();
+    let free_sd = gp
+        .as_ref()
+        .and_then(|g| laplace_sd(g, &free_u))
+        .unwrap_or_else(|| vec![f64::NAN; free_u.len()]);
+    let sd: Vec<f64> = held.sd.iter().take(u.len() - free_u.len()).copied().chain(free_sd).collect();
+    out.estimates = cal
+        .priors
+        .iter()
+        .zip(u)
+        .zip(&sd)
+        .map(|((p, u), s)| Estimate {
+            name: p.name.into(),
+            unit: p.unit.into(),
+            value: p.at(*u),
+            sd_unit: *s,
+            interval: (p.at((u - s).max(0.0)), p.at((u + s).min(1.0))),
+        })
+        .collect();
+    if let Ok(ch) = &cal.points[best].fit {
+        out.calibration_error = mean_nrmse(ch);
+    }
+    let ev = Evaluation { bundle: b, cause: cal.cause, priors: &cal.priors, runs: val_runs };
+    if let Ok(sims) = ev.simulate(&cal.theta(best)) {
+        out.validation_error = mean_nrmse(&ev.channels(&sims));
+        out.validation_sims = sims;
+    }
+    out
+}

@@ -1,0 +1,253 @@
+//! `report.html` of a diagnosis: the verdict, the specimen, the model
+//! comparison (MDL table and chart), the chosen model's calibrated
+//! parameters, and measured vs baseline vs extended histories at the
+//! sensors where the two models differ most, with the symptom numbers.
+
+use super::fit::{pre_event_offset, Simulated};
+use super::pipeline::Diagnosis;
+use super::symptoms::{half_cycle_peaks, rms};
+use crate::bundle::{Bundle, SensorKind};
+use crate::report::{
+    bar_chart, line_plot, plan_svg, BarChart, BarGroup, Block, LinePlot, NoteKind, Page,
+    PlanSensor, PlotSize, Section, Series, SeriesStyle, Table,
+};
+
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.4}")
+    } else {
+        "–".into()
+    }
+}
+
+/// The report page as HTML.
+pub fn render(b: &Bundle, d: &Diagnosis) -> String {
+    let telling = telling_channels(d);
+    let page = Page {
+        title: format!("Diagnosis of {}", b.manifest.name),
+        subtitle: format!(
+            "cause: {} · gain on the validation runs {:.3} · {} FE parameter points",
+            d.cause.as_str(),
+            d.gain,
+            d.fe_points
+        ),
+        sections: vec![
+            verdict_section(d),
+            specimen_section(b, &telling),
+            comparison_section(d),
+            parameters_section(d),
+            histories_section(b, d, &telling),
+        ],
+    };
+    page.to_html()
+}
+
+fn verdict_section(d: &Diagnosis) -> Section {
+    let chosen = d.candidates.iter().find(|c| c.selected);
+    let mut blocks = vec![Block::KeyValues(vec![
+        ("cause".into(), d.cause.as_str().into()),
+        ("what it means".into(), d.cause.explain().into()),
+        ("baseline validation error".into(), num(d.baseline_validation_error)),
+        ("extended validation error".into(), num(d.extended_validation_error)),
+        ("gain (1 − extended / baseline)".into(), num(d.gain)),
+    ])];
+    if let Some(c) = chosen {
+        blocks.push(Block::Paragraph(format!(
+            "Every candidate model was calibrated on the calibration runs and scored by its \
+             minimum description length; {} has the lowest ({:.1} nats). Errors are the mean \
+             normalised RMS error RMS(simulated − measured) / RMS(measured) over the sensors \
+             of the validation runs.",
+            c.cause.as_str(),
+            c.mdl.as_ref().map_or(f64::NAN, |m| m.total)
+        )));
+    }
+    if d.calibration_runs == d.validation_runs {
+        blocks.push(Block::Note {
+            kind: NoteKind::Warning,
+            text: "The bundle has a single usable split: validation reuses the calibration runs.".into(),
+        });
+    }
+    Section { id: "verdict".into(), heading: "Verdict".into(), blocks }
+}
+
+fn specimen_section(b: &Bundle, telling: &[(usize, String)]) -> Section {
+    let s = &b.manifest.structure;
+    let sensors: Vec<PlanSensor> = b
+        .manifest
+        .sensors
+        .iter()
+        .map(|x| PlanSensor {
+            id: x.id.clone(),
+            x_m: x.x_m,
+            y_m: x.y_m,
+            direction: match x.direction {
+                crate::bundle::Direction::X => crate::report::Direction::X,
+                crate::bundle::Direction::Y => crate::report::Direction::Y,
+            },
+            kind: match x.kind {
+                SensorKind::Acceleration => crate::report::SensorKind::Acceleration,
+                SensorKind::Displacement => crate::report::SensorKind::Displacement,
+            },
+            highlight: telling.iter().any(|(_, id)| *id == x.id),
+        })
+        .collect();
+    let plan = plan_svg(s.length_x_m, s.length_y_m, s.module_m, s.main_tee_spacing_m, &sensors);
+    Section {
+        id: "specimen".into(),
+        heading: "Specimen".into(),
+        blocks: vec![
+            Block::KeyValues(vec![
+                ("plan".into(), format!("{} m × {} m", s.length_x_m, s.length_y_m)),
+                ("module / main-tee spacing".into(), format!("{} m / {} m", s.module_m, s.main_tee_spacing_m)),
+                ("hangers".into(), format!("{} m long every {} m", s.hanger_length_m, s.hanger_spacing_m)),
+                ("panel mass".into(), format!("{} kg", s.panel_mass_kg)),
+                ("perimeter".into(), format!("{}, gap {:?} mm", s.boundary.as_str(), s.nominal_gap_mm)),
+                ("runs".into(), b.manifest.runs.iter().map(|r| r.id.clone()).collect::<Vec<_>>().join(", ")),
+            ]),
+            Block::figure("Plan with the sensors; highlighted: the sensors shown below.", plan),
+        ],
+    }
+}
+
+fn comparison_section(d: &Diagnosis) -> Section {
+    let best = d
+        .candidates
+        .iter()
+        .filter_map(|c| c.mdl.as_ref().map(|m| m.total))
+        .fold(f64::INFINITY, f64::min);
+    let rows: Vec<Vec<String>> = d
+        .candidates
+        .iter()
+        .map(|c| {
+            let m = c.mdl.as_ref();
+            vec![
+                c.cause.as_str().into(),
+                c.cause.priors().len().to_string(),
+                m.map_or("–".into(), |m| format!("{:.1}", m.fit)),
+                m.map_or("–".into(), |m| format!("{:.1}", m.parametric)),
+                m.map_or("–".into(), |m| format!("{:.1}", m.geometric)),
+                m.map_or("–".into(), |m| format!("{:.1}", m.total)),
+                m.map_or("–".into(), |m| format!("{:.1}", m.total - best)),
+                num(c.calibration_error),
+                num(c.validation_error),
+                format!("{} ({} failed)", c.fe_points, c.failed_points),
+            ]
+        })
+        .collect();
+    let highlight = d.candidates.iter().position(|c| c.selected);
+    let chart = bar_chart(&BarChart {
+        title: "Normalised error by model".into(),
+        x_label: "model".into(),
+        y_label: "mean normalised RMS error (-)".into(),
+        categories: d.candidates.iter().map(|c| c.cause.as_str().into()).collect(),
+        groups: vec![
+            BarGroup { name: "calibration runs".into(), values: d.candidates.iter().map(|c| c.calibration_error).collect() },
+            BarGroup { name: "validation runs".into(), values: d.candidates.iter().map(|c| c.validation_error).collect() },
+        ],
+        highlight,
+        size: PlotSize::default(),
+    });
+    Section {
+        id: "models".into(),
+        heading: "Model comparison (MDL)".into(),
+        blocks: vec![
+            Block::Table(Table {
+                caption: "MDL = −log f(x|θ̂) + k/2 log(N/2π) + log ∫√det I(θ) dθ (nats); lowest wins.".into(),
+                header: ["model", "k", "−log f", "k/2 log(N/2π)", "geometric", "MDL", "ΔMDL", "cal. error", "val. error", "FE points"]
+                    .map(String::from)
+                    .to_vec(),
+                rows,
+                highlight_row: highlight,
+            }),
+            Block::figure("Errors of each calibrated model on the calibration and validation runs.", chart),
+        ],
+    }
+}
+
+fn parameters_section(d: &Diagnosis) -> Section {
+    let c = d.candidates.iter().find(|c| c.selected).unwrap_or(&d.candidates[0]);
+    let rows = c
+        .estimates
+        .iter()
+        .map(|e| {
+            vec![e.name.clone(), e.unit.clone(), format!("{:.4}", e.value), format!("{:.4} – {:.4}", e.interval.0, e.interval.1)]
+        })
+        .collect();
+    Section {
+        id: "parameters".into(),
+        heading: format!("Calibrated parameters of {}", c.cause.as_str()),
+        blocks: vec![Block::Table(Table {
+            caption: "Best FE-evaluated point; interval: Laplace approximation (±1 sd) of the emulated posterior.".into(),
+            header: ["parameter", "unit", "estimate", "≈68 % interval"].map(String::from).to_vec(),
+            rows,
+            highlight_row: None,
+        })],
+    }
+}
+
+/// (validation run index, sensor id) where baseline and chosen model differ most.
+fn telling_channels(d: &Diagnosis) -> Vec<(usize, String)> {
+    let base = &d.candidates[0];
+    let chosen = d.candidates.iter().find(|c| c.selected).unwrap_or(base);
+    let mut out = Vec::new();
+    for (k, &run) in d.validation_runs.iter().enumerate() {
+        let (Some(sb), Some(sc)) = (base.validation_sims.get(k), chosen.validation_sims.get(k)) else { continue };
+        let mut best: Option<(f64, String)> = None;
+        for ((id, xb), (_, xc)) in sb.iter().zip(sc) {
+            let diff: Vec<f64> = xb.iter().zip(xc).map(|(a, c)| a - c).collect();
+            let score = rms(&diff) / rms(xb).max(1e-300);
+            if best.as_ref().is_none_or(|(s, _)| score > *s) {
+                best = Some((score, id.clone()));
+            }
+        }
+        if let Some((_, id)) = best {
+            out.push((run, id));
+        }
+    }
+    out
+}
+
+fn histories_section(b: &Bundle, d: &Diagnosis, telling: &[(usize, String)]) -> Section {
+    let base = &d.candidates[0];
+    let chosen = d.candidates.iter().find(|c| c.selected).unwrap_or(base);
+    let mut blocks = Vec::new();
+    for (run, id) in telling {
+        let k = d.validation_runs.iter().position(|r| r == run).unwrap_or(0);
+        let data = &b.runs[*run];
+        let Some(meas) = data.sensor(id) else { continue };
+        let sensor = b.manifest.sensors.iter().find(|s| &s.id == id);
+        let unit = match sensor.map(|s| s.kind) {
+            Some(SensorKind::Displacement) => "displacement (mm)",
+            _ => "acceleration (m/s²)",
+        };
+        let off = pre_event_offset(meas, data.dt_s);
+        let t: Vec<f64> = (0..meas.len()).map(|i| data.t0_s + i as f64 * data.dt_s).collect();
+        let pick = |sims: &[Simulated]| sims.get(k).and_then(|s| s.iter().find(|(s, _)| s == id)).map(|(_, v)| v.clone());
+        let mut series = vec![Series { name: "measured".into(), x: t.clone(), y: meas.iter().map(|v| v - off).collect(), style: SeriesStyle::Solid }];
+        if let Some(v) = pick(&base.validation_sims) {
+            series.push(Series { name: "baseline".into(), x: t.clone(), y: v, style: SeriesStyle::Dashed });
+        }
+        if chosen.cause != base.cause {
+            if let Some(v) = pick(&chosen.validation_sims) {
+                series.push(Series { name: format!("extended ({})", chosen.cause.as_str()), x: t.clone(), y: v, style: SeriesStyle::Solid });
+            }
+        }
+        let peaks = |y: &[f64]| half_cycle_peaks(y).into_iter().fold(0.0f64, f64::max);
+        let stats: Vec<String> = series.iter().map(|s| format!("{} peak {:.3}, RMS {:.3}", s.name, peaks(&s.y), rms(&s.y))).collect();
+        let plot = line_plot(&LinePlot {
+            title: format!("run {}, sensor {id}", data.id),
+            x_label: "time (s)".into(),
+            y_label: unit.into(),
+            series,
+            log_x: false,
+            log_y: false,
+            size: PlotSize::default(),
+        });
+        blocks.push(Block::figure(&format!("Validation run {}, sensor {id}: measured vs models.", data.id), plot));
+        blocks.push(Block::Paragraph(stats.join("; ")));
+    }
+    if blocks.is_empty() {
+        blocks.push(Block::Note { kind: NoteKind::Info, text: "No validation histories to show.".into() });
+    }
+    Section { id: "histories".into(), heading: "Time histories at the telling sensors".into(), blocks }
+}

@@ -1,0 +1,88 @@
+//! `diagnosis.json`, format `ceiling-diagnosis/1` (spec page
+//! `measured-bundle.md`): the cause, every candidate with its MDL and
+//! validation error, and the gain on the validation runs.
+
+use super::pipeline::Diagnosis;
+use serde::Serialize;
+
+/// Format string of the verdict.
+pub const FORMAT: &str = "ceiling-diagnosis/1";
+
+/// One candidate as written.
+#[derive(Debug, Clone, Serialize)]
+pub struct CandidateJson {
+    /// Cause spelling.
+    pub cause: String,
+    /// MDL (nats); null when the calibration failed.
+    pub mdl: Option<f64>,
+    /// Mean normalised error on the validation runs.
+    pub validation_error: f64,
+    /// Whether it was chosen.
+    pub selected: bool,
+    /// Mean normalised error on the calibration runs.
+    pub calibration_error: f64,
+    /// MDL terms: fit, parametric, geometric (nats).
+    pub mdl_terms: Option<[f64; 3]>,
+    /// Parameters k.
+    pub k: usize,
+    /// FE parameter points spent.
+    pub fe_points: usize,
+    /// Calibrated values by name.
+    pub parameters: std::collections::BTreeMap<String, f64>,
+}
+
+/// The verdict as written.
+#[derive(Debug, Clone, Serialize)]
+pub struct VerdictJson {
+    /// `ceiling-diagnosis/1`.
+    pub format: String,
+    /// Bundle name.
+    pub bundle: String,
+    /// The cause named.
+    pub cause: String,
+    /// Every candidate, the baseline first.
+    pub candidates: Vec<CandidateJson>,
+    /// Baseline error on the validation runs.
+    pub baseline_validation_error: f64,
+    /// Chosen variant's error on the validation runs.
+    pub extended_validation_error: f64,
+    /// 1 − extended / baseline.
+    pub gain: f64,
+    /// Calibration run ids.
+    pub calibration_runs: Vec<String>,
+    /// Validation run ids.
+    pub validation_runs: Vec<String>,
+    /// FE parameter points spent in all.
+    pub fe_points: usize,
+}
+
+/// The verdict of a diagnosis; `run_ids` names the bundle's runs.
+pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
+    let ids = |v: &[usize]| v.iter().map(|k| run_ids[*k].clone()).collect();
+    VerdictJson {
+        format: FORMAT.into(),
+        bundle: d.bundle.clone(),
+        cause: d.cause.as_str().into(),
+        candidates: d
+            .candidates
+            .iter()
+            .map(|c| CandidateJson {
+                cause: c.cause.as_str().into(),
+                mdl: c.mdl.as_ref().map(|m| m.total),
+                validation_error: c.validation_error,
+                selected: c.selected,
+                calibration_error: c.calibration_error,
+                mdl_terms: c.mdl.as_ref().map(|m| [m.fit, m.parametric, m.geometric]),
+                k: c.cause.priors().len(),
+                fe_points: c.fe_points,
+                parameters: c.estimates.iter().map(|e| (e.name.clone(), e.value)).collect(),
+            })
+            .collect(),
+        baseline_validation_error: d.baseline_validation_error,
+        extended_validation_error: d.extended_validation_error,
+        gain: d.gain,
+        calibration_runs: ids(&d.calibration_runs),
+        validation_runs: ids(&d.validation_runs),
+        fe_points: d.fe_points,
+    }
+}

@@ -1,0 +1,99 @@
+//! The one bridge from a bundle's specimen and sensors to the FE model's
+//! types: `bundle::Structure` → `fe::generator::CeilingSpec`, bundle sensors
+//! → `fe::ceiling::Sensor`, run data → `fe::ceiling::BaseInput`.
+
+use crate::bundle::{self, Boundary, RunData};
+use fe::ceiling::{BaseInput, Direction, Sensor, SensorKind};
+use fe::generator::{CeilingSpec, ModelOptions, Structure};
+
+/// Why a bundle's specimen cannot be modelled.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpecimenError {
+    /// A perimeter the FE generator does not build.
+    #[error("structure.boundary = {0:?}: ceilfarm models the semi-free perimeter only")]
+    Boundary(&'static str),
+    /// The semi-free perimeter needs its gap.
+    #[error("structure.nominal_gap_mm: required for a semi-free perimeter")]
+    MissingGap,
+    /// The FE generator refused the structure.
+    #[error("structure: {0}")]
+    Spec(String),
+}
+
+/// The FE specimen of a bundle's structure with the given model options.
+pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec, SpecimenError> {
+    if s.boundary != Boundary::SemiFree {
+        return Err(SpecimenError::Boundary(s.boundary.as_str()));
+    }
+    let gap = s.nominal_gap_mm.ok_or(SpecimenError::MissingGap)?;
+    let spec = CeilingSpec {
+        structure: Structure {
+            length_x_m: s.length_x_m,
+            length_y_m: s.length_y_m,
+            module_m: s.module_m,
+            main_tee_spacing_m: s.main_tee_spacing_m,
+            hanger_spacing_m: s.hanger_spacing_m,
+            hanger_length_m: s.hanger_length_m,
+            panel_mass_kg: s.panel_mass_kg,
+            layers: s.layers,
+            boundary: fe::generator::Boundary::SemiFree,
+            nominal_gap_mm: gap,
+        },
+        model,
+    };
+    spec.check().map_err(|e| SpecimenError::Spec(e.to_string()))?;
+    Ok(spec)
+}
+
+/// The FE sensor of a bundle sensor.
+pub fn fe_sensor(s: &bundle::Sensor) -> Sensor {
+    Sensor {
+        id: s.id.clone(),
+        kind: match s.kind {
+            bundle::SensorKind::Acceleration => SensorKind::Acceleration,
+            bundle::SensorKind::Displacement => SensorKind::Displacement,
+        },
+        x_m: s.x_m,
+        y_m: s.y_m,
+        direction: match s.direction {
+            bundle::Direction::X => Direction::X,
+            bundle::Direction::Y => Direction::Y,
+        },
+    }
+}
+
+/// The base input of a run (m/s²).
+pub fn base_input(run: &RunData) -> BaseInput {
+    BaseInput { dt_s: run.dt_s, x_m_s2: run.input_x_m_s2.clone(), y_m_s2: run.input_y_m_s2.clone() }
+}
+
+/// Factor from an FE sensor value (m/s² or m) to the bundle's internal unit
+/// (m/s² or mm).
+pub fn to_bundle_units(kind: bundle::SensorKind) -> f64 {
+    match kind {
+        bundle::SensorKind::Acceleration => 1.0,
+        bundle::SensorKind::Displacement => 1000.0,
+    }
+}
+
+/// One simulated run in the bundle's internal units: (sensor id, samples)
+/// for every sensor, plus the simulation's frequencies and spring peaks.
+pub fn simulate_run(
+    spec: &CeilingSpec,
+    params: &fe::generator::Parameters,
+    sensors: &[bundle::Sensor],
+    input: &BaseInput,
+    opts: &fe::ceiling::SimOptions,
+) -> Result<(Vec<(String, Vec<f64>)>, fe::ceiling::Simulation), fe::ceiling::CeilingError> {
+    let fe_sensors: Vec<Sensor> = sensors.iter().map(fe_sensor).collect();
+    let sim = fe::ceiling::simulate(spec, params, input, &fe_sensors, opts, &mut |_| {})?;
+    let series = sensors
+        .iter()
+        .zip(&sim.sensors)
+        .map(|(s, h)| {
+            let k = to_bundle_units(s.kind);
+            (s.id.clone(), h.values.iter().map(|v| v * k).collect())
+        })
+        .collect();
+    Ok((series, sim))
+}

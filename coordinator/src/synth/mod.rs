@@ -1,0 +1,327 @@
+//! Synthetic test campaigns (`ceilfarm synth SPEC.toml --out DIR`): simulate
+//! shaking-table runs of a specimen with ceilfarm's own FE model, optionally
+//! with a hidden effect, degrade the readings like real sensors, and write a
+//! `ceiling-measured/1` bundle. The truth goes to a separate answer file,
+//! never into the bundle.
+//!
+//! A hidden effect's `strength` is set from the baseline model's own demand
+//! in the campaign's strongest run (so it shows whatever the amplitudes):
+//! pounding puts the gap at 85 / 60 / 40 % of the peak perimeter
+//! displacement (weak / moderate / strong); friction puts the slip force at
+//! 70 / 40 / 20 % of the peak perimeter spring force; connection hysteresis
+//! scales the CJS-A backbone so that the peak connection force is 1.2 / 2 /
+//! 4 times its first backbone force (150 N).
+
+pub mod input;
+pub mod noise;
+pub mod spec;
+
+use crate::bundle::{self, Bundle, Manifest, ModalEntry, RunData, RunMeta, FORMAT};
+use crate::diagnose::cause::Cause;
+use crate::specimen::{fe_spec, simulate_run, SpecimenError};
+use fe::ceiling::{BaseInput, SimOptions};
+use fe::generator::{CeilingSpec, Parameters};
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+use serde::Serialize;
+use spec::{Shaking, Strength, SynthSpec};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Spring group of the perimeter along-axis springs (friction / elastic).
+pub const PERIMETER_GROUP: &str = "perimeter_friction";
+/// Spring group of the grid connections' axial springs.
+pub const CONNECTION_GROUP: &str = "connection_axial";
+/// First backbone force of the seed's CJS-A connection (N).
+const CJS_A_FIRST_FORCE_N: f64 = 150.0;
+
+/// The truth behind a synthetic bundle (`answer.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Answer {
+    /// `ceiling-synth-answer/1`.
+    pub format: String,
+    /// Bundle name.
+    pub bundle: String,
+    /// The hidden cause (`none` when nothing is hidden).
+    pub cause: String,
+    /// Strength preset used for parameters not given explicitly.
+    pub strength: String,
+    /// Every parameter value of the true model.
+    pub parameters: BTreeMap<String, f64>,
+    /// Rayleigh damping ratio.
+    pub damping_ratio: f64,
+    /// Baseline demand the strength was set from: peak perimeter
+    /// displacement (mm), perimeter force (N), connection force (N).
+    pub baseline_demand: Option<[f64; 3]>,
+    /// Random seed.
+    pub seed: u64,
+}
+
+/// Why a campaign could not be synthesised.
+#[derive(Debug, thiserror::Error)]
+pub enum SynthError {
+    /// `hidden.effect` is not a known cause.
+    #[error("hidden.effect = {0:?}: expected none, perimeter-pounding, perimeter-friction or connection-hysteresis")]
+    Effect(String),
+    /// The specimen cannot be modelled.
+    #[error(transparent)]
+    Specimen(#[from] SpecimenError),
+    /// A parameter value was refused.
+    #[error("{key}: {message}")]
+    Parameter {
+        /// `truth.parameters.NAME` or `hidden.parameters.NAME`.
+        key: String,
+        /// The refusal.
+        message: String,
+    },
+    /// An input could not be built.
+    #[error(transparent)]
+    Input(#[from] input::InputError),
+    /// A simulation failed.
+    #[error("run {run}: simulation failed: {message}")]
+    Simulation {
+        /// Run id.
+        run: String,
+        /// Why.
+        message: String,
+    },
+    /// The bundle could not be assembled or written.
+    #[error(transparent)]
+    Bundle(#[from] bundle::BundleError),
+}
+
+/// Simulates the campaign; returns the bundle and its answer.
+pub fn synthesize(
+    spec: &SynthSpec,
+    base_dir: &Path,
+    observer: &mut dyn FnMut(&str),
+) -> Result<(Bundle, Answer), SynthError> {
+    let cause = match spec.hidden.effect.as_deref() {
+        None => Cause::None,
+        Some(e) => Cause::parse(e).ok_or_else(|| SynthError::Effect(e.into()))?,
+    };
+    let inputs = spec
+        .runs
+        .iter()
+        .enumerate()
+        .map(|(k, r)| input::build_input(r, spec.seed.wrapping_add(1000 + k as u64), base_dir))
+        .collect::<Result<Vec<_>, _>>()?;
+    let base_inputs: Vec<BaseInput> =
+        spec.runs.iter().zip(&inputs).map(|(r, (a, dt))| base_input(r.direction, a, *dt)).collect();
+    let baseline = fe_spec(&spec.structure, Cause::None.model_options())?;
+    let mut demand = None;
+    let needs_demand = cause.extra_priors().iter().any(|p| !spec.hidden.parameters.contains_key(p.name));
+    if cause != Cause::None && needs_demand {
+        observer("baseline runs to size the hidden effect");
+        let p = truth_parameters(spec, &baseline, Cause::None)?;
+        demand = Some(baseline_demand(spec, &baseline, &p, &base_inputs)?);
+    }
+    let truth_spec = fe_spec(&spec.structure, cause.model_options())?;
+    let mut params = truth_parameters(spec, &truth_spec, cause)?;
+    let effect = effect_values(spec, cause, demand, &params);
+    for (name, v) in &effect {
+        params.set(name, *v).map_err(|e| SynthError::Parameter {
+            key: format!("hidden.parameters.{name}"),
+            message: e.to_string(),
+        })?;
+    }
+    let (runs, freq_hz) = simulate_runs(spec, &truth_spec, &params, &inputs, &base_inputs, observer)?;
+    let bundle = assemble(spec, runs, modal(spec, &freq_hz));
+    let answer = Answer {
+        format: "ceiling-synth-answer/1".into(),
+        bundle: spec.name.clone(),
+        cause: cause.as_str().into(),
+        strength: format!("{:?}", spec.hidden.strength).to_lowercase(),
+        parameters: params.iter().map(|(k, v)| (k.to_string(), v)).collect(),
+        damping_ratio: spec.truth.damping_ratio,
+        baseline_demand: demand,
+        seed: spec.seed,
+    };
+    Ok((bundle, answer))
+}
+
+fn base_input(dir: Shaking, a: &[f64], dt_s: f64) -> BaseInput {
+    let x = matches!(dir, Shaking::X | Shaking::Xy).then(|| a.to_vec());
+    let y = matches!(dir, Shaking::Y | Shaking::Xy).then(|| a.to_vec());
+    BaseInput { dt_s, x_m_s2: x, y_m_s2: y }
+}
+
+/// Mid-points of the variant's priors overridden by `truth.parameters`.
+fn truth_parameters(spec: &SynthSpec, fe: &CeilingSpec, cause: Cause) -> Result<Parameters, SynthError> {
+    let mut p = Parameters::prior_midpoints_for(fe);
+    for (name, v) in &spec.truth.parameters {
+        if Cause::None.extra_priors().iter().chain(cause.extra_priors()).any(|x| x.name == name) {
+            continue;
+        }
+        p.set(name, *v).map_err(|e| SynthError::Parameter {
+            key: format!("truth.parameters.{name}"),
+            message: e.to_string(),
+        })?;
+    }
+    Ok(p)
+}
+
+/// Peak perimeter displacement (mm), perimeter force (N) and connection
+/// force (N) of the baseline over all runs.
+fn baseline_demand(
+    spec: &SynthSpec,
+    fe: &CeilingSpec,
+    p: &Parameters,
+    inputs: &[BaseInput],
+) -> Result<[f64; 3], SynthError> {
+    let opts = SimOptions {
+        damping_ratio: spec.truth.damping_ratio,
+        spring_groups: vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()],
+        ..SimOptions::default()
+    };
+    let mut d = [0.0f64; 3];
+    for (r, input) in spec.runs.iter().zip(inputs) {
+        let (_, sim) = simulate_run(fe, p, &[], input, &opts)
+            .map_err(|e| SynthError::Simulation { run: r.id.clone(), message: e.to_string() })?;
+        d[0] = d[0].max(sim.spring_peaks[0].deformation_mm);
+        d[1] = d[1].max(sim.spring_peaks[0].force_n);
+        d[2] = d[2].max(sim.spring_peaks[1].force_n);
+    }
+    Ok(d)
+}
+
+/// The effect's parameter values: explicit ones, else the strength preset.
+fn effect_values(
+    spec: &SynthSpec,
+    cause: Cause,
+    demand: Option<[f64; 3]>,
+    _p: &Parameters,
+) -> BTreeMap<String, f64> {
+    let s = spec.hidden.strength;
+    let pick = |w: f64, m: f64, st: f64| match s {
+        Strength::Weak => w,
+        Strength::Moderate => m,
+        Strength::Strong => st,
+    };
+    let d = demand.unwrap_or([0.0; 3]);
+    let gap_mm = spec.structure.nominal_gap_mm.unwrap_or(0.0).max(1e-9);
+    let mut out = BTreeMap::new();
+    for prior in cause.extra_priors() {
+        let v = match spec.hidden.parameters.get(prior.name) {
+            Some(v) => *v,
+            None => match prior.name {
+                "gap_ratio" => pick(0.85, 0.6, 0.4) * d[0] / gap_mm,
+                "friction_fy_N" => pick(0.7, 0.4, 0.2) * d[1],
+                "conn_force_scale" | "conn_disp_scale" => {
+                    d[2] / (pick(1.2, 2.0, 4.0) * CJS_A_FIRST_FORCE_N)
+                }
+                _ => prior.at(0.5),
+            },
+        };
+        out.insert(prior.name.to_string(), v);
+    }
+    out
+}
+
+type Runs = Vec<(RunMeta, RunData)>;
+
+fn simulate_runs(
+    spec: &SynthSpec,
+    fe: &CeilingSpec,
+    params: &Parameters,
+    inputs: &[(Vec<f64>, f64)],
+    base: &[BaseInput],
+    observer: &mut dyn FnMut(&str),
+) -> Result<(Runs, Vec<f64>), SynthError> {
+    let n_modes = spec.modal.as_ref().map_or(6, |m| m.modes.max(1));
+    let opts = SimOptions { damping_ratio: spec.truth.damping_ratio, n_modes, ..SimOptions::default() };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
+    let mut runs = Vec::new();
+    let mut freq_hz = Vec::new();
+    for (k, ((r, (a, dt)), input)) in spec.runs.iter().zip(inputs).zip(base).enumerate() {
+        observer(&format!("run {} of {}: {}", k + 1, spec.runs.len(), r.id));
+        let (mut series, sim) = simulate_run(fe, params, &spec.sensors, input, &opts)
+            .map_err(|e| SynthError::Simulation { run: r.id.clone(), message: e.to_string() })?;
+        for ((_, v), s) in series.iter_mut().zip(&spec.sensors) {
+            noise::degrade(v, s.kind, &spec.noise, &mut rng);
+        }
+        freq_hz = sim.freq_hz;
+        let (input_x, input_y) = match r.direction {
+            Shaking::X => (Some("base_ax".to_string()), None),
+            Shaking::Y => (None, Some("base_ay".to_string())),
+            Shaking::Xy => (Some("base_ax".to_string()), Some("base_ay".to_string())),
+        };
+        let meta = RunMeta {
+            id: r.id.clone(),
+            file: format!("runs/{}.csv", r.id),
+            description: r.description.clone(),
+            input_x,
+            input_y,
+            input_units: r.input_units,
+            role: r.role,
+        };
+        let data = RunData {
+            id: r.id.clone(),
+            t0_s: 0.0,
+            dt_s: *dt,
+            input_x_m_s2: input.x_m_s2.as_ref().map(|_| a.clone()),
+            input_y_m_s2: input.y_m_s2.as_ref().map(|_| a.clone()),
+            sensors: series,
+        };
+        runs.push((meta, data));
+    }
+    Ok((runs, freq_hz))
+}
+
+/// `modal.csv` entries: the true frequencies plus Gaussian noise.
+fn modal(spec: &SynthSpec, freq_hz: &[f64]) -> Option<Vec<ModalEntry>> {
+    let m = spec.modal.as_ref()?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed ^ 0x5eed);
+    let noise = Normal::new(0.0, m.std_hz.max(0.0)).ok()?;
+    Some(
+        freq_hz
+            .iter()
+            .take(m.modes)
+            .enumerate()
+            .map(|(k, f)| ModalEntry {
+                mode: k as u32 + 1,
+                freq_hz: f + noise.sample(&mut rng),
+                std_hz: (m.std_hz > 0.0).then_some(m.std_hz),
+            })
+            .collect(),
+    )
+}
+
+fn assemble(spec: &SynthSpec, runs: Runs, modal: Option<Vec<ModalEntry>>) -> Bundle {
+    let (metas, data): (Vec<_>, Vec<_>) = runs.into_iter().unzip();
+    Bundle {
+        dir: Default::default(),
+        manifest: Manifest {
+            format: FORMAT.into(),
+            name: spec.name.clone(),
+            description: spec.description.clone(),
+            structure: spec.structure.clone(),
+            sensors: spec.sensors.clone(),
+            runs: metas,
+        },
+        runs: data,
+        modal,
+    }
+}
+
+/// Synthesises and writes the bundle to `out` and the answer to `answer`.
+pub fn synth_to_dir(
+    spec_path: &Path,
+    out: &Path,
+    answer: &Path,
+    observer: &mut dyn FnMut(&str),
+) -> anyhow::Result<Answer> {
+    let spec = SynthSpec::from_file(spec_path)?;
+    let base = spec_path.parent().unwrap_or(Path::new("."));
+    let (bundle, ans) = synthesize(&spec, base, observer)?;
+    if answer.starts_with(out) {
+        anyhow::bail!("--answer {}: must lie outside the bundle directory {}", answer.display(), out.display());
+    }
+    bundle::write_bundle(&bundle, out)?;
+    bundle::read_bundle(out).map_err(|e| anyhow::anyhow!("the written bundle does not read back: {e}"))?;
+    std::fs::write(answer, serde_json::to_string_pretty(&ans)?)?;
+    Ok(ans)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,125 @@
+//! Synthetic campaigns: the bundle reads back, the truth stays outside it,
+//! effects are sized from the baseline, bad files are refused clearly.
+
+use super::spec::SynthSpec;
+use super::synth_to_dir;
+use crate::bundle::read_bundle;
+
+const SPEC: &str = r#"
+name = "tiny"
+seed = 3
+[structure]
+length_x_m = 2.4
+length_y_m = 2.4
+module_m = 0.6
+main_tee_spacing_m = 1.2
+hanger_spacing_m = 1.2
+hanger_length_m = 1.0
+panel_mass_kg = 1.2
+boundary = "semi-free"
+nominal_gap_mm = 19.0
+[[sensors]]
+id = "A"
+kind = "acceleration"
+x_m = 1.2
+y_m = 1.2
+direction = "x"
+units = "g"
+[[sensors]]
+id = "D"
+kind = "displacement"
+x_m = 1.2
+y_m = 1.2
+direction = "x"
+units = "m"
+[[runs]]
+id = "wn"
+excitation = "white-noise"
+direction = "x"
+pga_g = 0.05
+duration_s = 4.0
+[[runs]]
+id = "sw"
+excitation = "sine-sweep"
+direction = "xy"
+pga_g = 0.2
+duration_s = 4.0
+sample_rate_hz = 100.0
+input_units = "m/s2"
+[noise]
+accel_rms_m_s2 = 0.01
+missing_fraction = 0.01
+[modal]
+modes = 3
+std_hz = 0.01
+"#;
+
+fn write(dir: &std::path::Path, text: &str) -> std::path::PathBuf {
+    let p = dir.join("campaign.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn a_campaign_reads_back_and_keeps_its_answer_outside() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = write(tmp.path(), &format!("{SPEC}\n[hidden]\neffect = \"perimeter-pounding\"\n"));
+    let out = tmp.path().join("bundle");
+    let answer = tmp.path().join("answer.json");
+    let ans = synth_to_dir(&spec, &out, &answer, &mut |_| {}).unwrap();
+    let b = read_bundle(&out).unwrap();
+    assert_eq!(b.runs.len(), 2);
+    assert_eq!(b.runs[1].dt_s, 0.01);
+    assert_eq!(b.modal.as_ref().unwrap().len(), 3);
+    // Pounding sized at 60 % of the baseline's peak perimeter displacement.
+    let demand = ans.baseline_demand.unwrap();
+    let gap = ans.parameters["gap_ratio"] * 19.0;
+    assert!((gap - 0.6 * demand[0]).abs() < 1e-9 * gap, "{gap} {demand:?}");
+    // Missing readings stay missing; the input has none.
+    let a = b.runs[0].sensor("A").unwrap();
+    let missing = a.iter().filter(|v| v.is_nan()).count() as f64 / a.len() as f64;
+    assert!(missing > 0.0 && missing < 0.03, "{missing}");
+    assert!(b.runs[0].input_x_m_s2.as_ref().unwrap().iter().all(|v| v.is_finite()));
+    // Nothing in the bundle names the effect.
+    for entry in walk(&out) {
+        let text = std::fs::read_to_string(&entry).unwrap();
+        assert!(!text.contains("pounding") && !text.contains("gap_ratio"), "{}", entry.display());
+    }
+    let inside = out.join("answer.json");
+    let e = synth_to_dir(&spec, &out, &inside, &mut |_| {}).unwrap_err();
+    assert!(e.to_string().contains("outside the bundle"), "{e}");
+}
+
+fn walk(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = vec![];
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}
+
+#[test]
+fn bad_campaigns_are_refused_with_the_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cases = [
+        (format!("{SPEC}\n[hidden]\neffect = \"ghosts\"\n"), "hidden.effect"),
+        (SPEC.replace("duration_s = 4.0\nsample_rate_hz", "duration_s = -1.0\nsample_rate_hz"), "runs.sw.duration_s"),
+        (SPEC.replace("missing_fraction = 0.01", "missing_fraction = 0.9"), "noise.missing_fraction"),
+        (SPEC.replace("seed = 3", "seed = 3\ncolour = 1"), "unknown field"),
+    ];
+    for (text, key) in cases {
+        let spec = write(tmp.path(), &text);
+        let e = match SynthSpec::from_file(&spec) {
+            Err(e) => e.to_string(),
+            Ok(_) => synth_to_dir(&spec, &tmp.path().join("b"), &tmp.path().join("a.json"), &mut |_| {})
+                .unwrap_err()
+                .to_string(),
+        };
+        assert!(e.contains(key), "{key}: {e}");
+    }
+}
