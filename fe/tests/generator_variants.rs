@@ -418,6 +418,18 @@ fn timing_of_a_20_s_sweep_per_variant() {
             );
         }
     }
+    // Type-C size, friction-pounding: the first 2 s (400 steps) of the sweep.
+    for connections in CONNECTIONS {
+        let spec = specimen(12.6, 12.0, Perimeter::FrictionPounding, connections);
+        let m = generate(&spec, &Parameters::prior_midpoints_for(&spec)).unwrap();
+        let m = with_sweep(m.clone(), 0.5, 0.005, 400, recorders(&m));
+        let t0 = std::time::Instant::now();
+        run(&m);
+        eprintln!(
+            "12.6 x 12 m {connections:?}: 400 steps in {:.2} s wall",
+            t0.elapsed().as_secs_f64()
+        );
+    }
 }
 
 #[test]
