@@ -220,3 +220,28 @@ pub(super) fn connections(
     }
     nodes
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn unscaled_set_is_table_5_4() {
+        let s = cjs_a(1.0, 1.0);
+        assert_eq!(s.ePf, [150.0, 651.0, 1001.0, 458.0]);
+        assert_eq!(s.eNd, [-0.5, -5.0, -12.7, -16.0]);
+        // OpenSees' eigen stiffness: the stiffer first slope, 200 N / 0.5 mm.
+        assert_eq!(MaterialSpec::Pinching4(Box::new(s)).initial_tangent(), 400.0);
+    }
+
+    proptest! {
+        #[test]
+        fn scaled_sets_build_and_scale_the_slopes(fs in 0.5f64..1.5, ds in 0.5f64..1.5) {
+            let spec = MaterialSpec::Pinching4(Box::new(cjs_a(fs, ds)));
+            prop_assert!(crate::materials::build(&spec).is_ok());
+            let k = spec.initial_tangent();
+            prop_assert!((k - 400.0 * fs / ds).abs() <= 1e-12 * k);
+        }
+    }
+}
