@@ -34,11 +34,15 @@ use crate::materials::{MaterialSpec, Pinching4Spec};
 use crate::model::{MaterialDef, Model, Node, Spring};
 
 /// Rotational stiffness of every connection spring (N·mm/rad): continuity,
-/// about 1e5 times the main tee's 4EI/L over a 600 mm module.
-pub const ROTATION_N_MM_PER_RAD: f64 = 1e12;
+/// about 1e6 times the main tee's 4EI/L over a 600 mm module (1.05e7), so
+/// that frequencies differ from the rigid grid's by less than 1e-6.
+pub const ROTATION_N_MM_PER_RAD: f64 = 1e13;
 /// Transverse and vertical stiffness of a main-tee splice (N/mm): continuity,
-/// about 1e6 times the main tee's EA/L over a 600 mm module.
-pub const SPLICE_RESTRAINT_N_PER_MM: f64 = 1e10;
+/// about 700 times the main tee's EA/L over a 600 mm module (1.4e4). Much
+/// stiffer translational springs put a round-off floor under Newton's
+/// increment: at 1e10 N/mm a type-C run stalls at ‖Δu‖ = 3.3e-10 mm, above
+/// the transient's 1e-10 mm tolerance.
+pub const SPLICE_RESTRAINT_N_PER_MM: f64 = 1e7;
 /// Main-tee piece length (mm, seed Table 4.4).
 pub const MAIN_TEE_PIECE_MM: f64 = 3600.0;
 
@@ -215,4 +219,29 @@ pub(super) fn connections(
         }
     }
     nodes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn unscaled_set_is_table_5_4() {
+        let s = cjs_a(1.0, 1.0);
+        assert_eq!(s.ePf, [150.0, 651.0, 1001.0, 458.0]);
+        assert_eq!(s.eNd, [-0.5, -5.0, -12.7, -16.0]);
+        // OpenSees' eigen stiffness: the stiffer first slope, 200 N / 0.5 mm.
+        assert_eq!(MaterialSpec::Pinching4(Box::new(s)).initial_tangent(), 400.0);
+    }
+
+    proptest! {
+        #[test]
+        fn scaled_sets_build_and_scale_the_slopes(fs in 0.5f64..1.5, ds in 0.5f64..1.5) {
+            let spec = MaterialSpec::Pinching4(Box::new(cjs_a(fs, ds)));
+            prop_assert!(crate::materials::build(&spec).is_ok());
+            let k = spec.initial_tangent();
+            prop_assert!((k - 400.0 * fs / ds).abs() <= 1e-12 * k);
+        }
+    }
 }

@@ -7,7 +7,8 @@
 //! Numbering (the verification generator's scheme, so that generated files
 //! compare one to one): grid node (i, j) at (i·module, j·module, 0) has id
 //! 1 + i + (nx + 1)·j; its wall node 100000 + id; rod top 200000 + id; beams
-//! from 1 (y-lines, cross tees, rods); springs from 100001.
+//! from 1 (y-lines, cross tees, rods); perimeter springs from 100001;
+//! connection nodes from 300000 + id and their springs from 300001.
 //!
 //! Sections (seed Table 4.4, Table 6.1 names): main tee A_main, J_main,
 //! Iy_main, Iz 1000 mm⁴; cross tee A_cross, J_cross, Iy_cross, Iz_cross; sub

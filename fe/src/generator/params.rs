@@ -111,13 +111,17 @@ pub const EXTENSIONS: [ParamInfo; 6] = [
 /// Which model choice a parameter needs (for the refusal message).
 fn needs(name: &str) -> &'static str {
     match name {
-        "K_rod" => "no model variant (Table 6.1 does not say what it acts on)",
-        "K_cc1" => "connections = \"elastic\"",
-        "K_cc2" | "K_cc3" | "K_mc" => "connections = \"elastic\" or \"pinching4\"",
-        "friction_fy_N" | "friction_b" => "perimeter = \"friction\" or \"friction-pounding\"",
-        "gap_ratio" | "impact_factor" => "perimeter = \"pounding\" or \"friction-pounding\"",
-        "conn_force_scale" | "conn_disp_scale" => "connections = \"pinching4\"",
-        _ => "the default model",
+        "K_rod" => "no variant models it: Table 6.1 does not say what it acts on",
+        "K_cc1" => "it needs connections = \"elastic\"",
+        "K_cc2" | "K_cc3" | "K_mc" => "it needs connections = \"elastic\" or \"pinching4\"",
+        "friction_fy_N" | "friction_b" => {
+            "it needs perimeter = \"friction\" or \"friction-pounding\""
+        }
+        "gap_ratio" | "impact_factor" => {
+            "it needs perimeter = \"pounding\" or \"friction-pounding\""
+        }
+        "conn_force_scale" | "conn_disp_scale" => "it needs connections = \"pinching4\"",
+        _ => "it is a parameter of the default model",
     }
 }
 
@@ -160,7 +164,7 @@ pub enum ParamError {
         known: String,
     },
     /// A known parameter that this model variant does not use.
-    #[error("parameter `{name}`: not used by this model variant; it needs {needs}")]
+    #[error("parameter `{name}`: not used by this model variant; {needs}")]
     NotModelled {
         /// The name given.
         name: String,

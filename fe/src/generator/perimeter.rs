@@ -12,10 +12,14 @@
 //! - `friction-pounding`: Steel01 plus the Gap (the seed's nonlinear model).
 //!
 //! Materials: 1 Elastic K_friction, 2 the restraint, then Steel01 if
-//! friction, then the three Gaps if pounding. Springs (ids from 100001) per
-//! end: friction, gap, perpendicular, vertical; the wall node is i on the
+//! friction, then the three Gaps if pounding. Springs (ids from 100001, ends
+//! in grid-node id order as the verification models number them) per end:
+//! friction, gap, perpendicular, vertical; the wall node is i on the
 //! x = 0 / y = 0 walls and j on the far walls, so motion towards a wall is
-//! d < 0. Gap springs carry no Rayleigh damping. Units: N, mm.
+//! d < 0. Only the elastic springs (K_friction, restraints) enter the
+//! Rayleigh term; Steel01 friction and gap springs do not, as in the
+//! verification models (`ceiling_2p4_linear.json`, `_nonlinear_*.json`).
+//! Units: N, mm.
 
 use super::grid::{Grid, Member};
 use super::params::Parameters;
@@ -58,6 +62,7 @@ fn ends(g: &Grid) -> Vec<End> {
     for (i, side, wall_first) in [(0, "x0", true), (g.nx, "x1", false)] {
         ends.extend((1..g.ny).map(|j| (i, j, 1u8, wall_first, side, Member::Cross)));
     }
+    ends.sort_by_key(|e| g.id(e.0, e.1));
     ends
 }
 
@@ -92,7 +97,7 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
                 j: b,
                 dof,
                 mat,
-                rayleigh: group != "perimeter_gap",
+                rayleigh: mat == 1 || mat == 2,
                 group: Some(group.into()),
                 side: Some(side.into()),
                 member: Some(member.name().into()),
