@@ -60,7 +60,7 @@ impl CeilingModal {
             }
         };
         let spec = spec.map_err(|e| invalid(e.to_string()))?;
-        let mut base = Parameters::prior_midpoints();
+        let mut base = Parameters::prior_midpoints_for(&spec);
         for (name, value) in &opts.fixed {
             base.set(name, *value).map_err(|e| invalid(format!("fixed: {e}")))?;
         }

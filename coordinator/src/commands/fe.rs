@@ -101,7 +101,7 @@ pub fn run(cmd: FeCommand) -> Result<()> {
         }
         FeCommand::Mesh(a) => {
             let spec = fe::generator::CeilingSpec::from_toml_file(&a.spec)?;
-            let mut params = fe::generator::Parameters::prior_midpoints();
+            let mut params = fe::generator::Parameters::prior_midpoints_for(&spec);
             for text in &a.set {
                 params.set_text(text)?;
             }
