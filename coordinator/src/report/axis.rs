@@ -127,16 +127,19 @@ fn linear_ticks(lo: f64, hi: f64, target: usize) -> (f64, f64, Vec<Tick>) {
     (k_lo * step, k_hi * step, ticks)
 }
 
+/// A log axis over the data range padded by 2 % of its decades (half a
+/// decade each side for a single value); ticks at decades, with minor ticks
+/// 2..9 when at most six decades show, and 2 and 5 labelled when fewer
+/// than two decades fall inside.
 fn log_ticks(lo: f64, hi: f64) -> (f64, f64, Vec<Tick>) {
-    let mut e_lo = lo.log10().floor();
-    let mut e_hi = hi.log10().ceil();
-    if e_hi <= e_lo {
-        e_hi = e_lo + 1.0;
-    }
-    e_lo = e_lo.max(-307.0);
-    e_hi = e_hi.min(308.0);
+    let (l_lo, l_hi) = (lo.log10().max(-307.0), hi.log10().min(307.0));
+    let pad = if l_hi - l_lo < 1e-9 { 0.5 } else { 0.02 * (l_hi - l_lo) };
+    let (l_lo, l_hi) = (l_lo - pad, l_hi + pad);
+    let inside = |v: f64| v.log10() >= l_lo - 1e-12 && v.log10() <= l_hi + 1e-12;
+    let (e_lo, e_hi) = (l_lo.floor(), l_hi.ceil());
     let decades = (e_hi - e_lo) as usize;
     let every = decades.div_ceil(8).max(1);
+    let decade_ticks = (0..=decades).filter(|i| inside(10f64.powf(e_lo + *i as f64))).count();
     let mut ticks = Vec::new();
     for i in 0..=decades {
         let e = e_lo + i as f64;
@@ -144,7 +147,7 @@ fn log_ticks(lo: f64, hi: f64) -> (f64, f64, Vec<Tick>) {
         ticks.push(Tick { value: 10f64.powf(e), label });
         if decades <= 6 && i < decades {
             for m in 2..=9 {
-                let labelled = decades <= 1 && (m == 2 || m == 5);
+                let labelled = decade_ticks < 2 && (m == 2 || m == 5 || decade_ticks == 0);
                 let value = m as f64 * 10f64.powf(e);
                 let label =
                     if labelled { plain(value, (-e).max(0.0) as usize) } else { String::new() };
@@ -152,7 +155,8 @@ fn log_ticks(lo: f64, hi: f64) -> (f64, f64, Vec<Tick>) {
             }
         }
     }
-    (10f64.powf(e_lo), 10f64.powf(e_hi), ticks)
+    ticks.retain(|t| inside(t.value));
+    (10f64.powf(l_lo), 10f64.powf(l_hi), ticks)
 }
 
 /// A decade's label: plain for 10^-3..10^5, else `1e-6`.
@@ -243,11 +247,20 @@ mod tests {
     }
 
     #[test]
-    fn log_axis_spans_whole_decades() {
-        let a = Axis::new(0.3, 45.0, Scale::Log10, 5);
-        assert_eq!((a.lo, a.hi), (0.1, 100.0));
+    fn log_axis_pads_the_data_range() {
+        let a = Axis::new(0.1, 100.0, Scale::Log10, 5);
+        assert!((a.lo.log10() + 1.06).abs() < 1e-12 && (a.hi.log10() - 2.06).abs() < 1e-12);
         assert_eq!(labels(&a), ["0.1", "1", "10", "100"]);
-        assert_eq!(a.placed(0.0, 300.0).map(10.0), Some(200.0));
+        let p = a.placed(0.0, 312.0).map(10.0).unwrap();
+        assert!((p - 206.0).abs() < 1e-9, "{p}");
+    }
+
+    #[test]
+    fn short_log_axis_labels_two_and_five() {
+        let a = Axis::new(1.5, 8.0, Scale::Log10, 5);
+        assert_eq!(labels(&a), ["2", "3", "4", "5", "6", "7", "8"]);
+        let b = Axis::new(3.0, 30.0, Scale::Log10, 5);
+        assert_eq!(labels(&b), ["5", "10", "20"]);
     }
 
     #[test]

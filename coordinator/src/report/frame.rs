@@ -25,7 +25,7 @@ pub struct PlotSize {
 
 impl Default for PlotSize {
     fn default() -> Self {
-        PlotSize { width_px: 760, height_px: 340 }
+        PlotSize { width_px: 900, height_px: 360 }
     }
 }
 
@@ -57,6 +57,8 @@ pub(crate) enum Swatch {
     Dot { colour: &'static str },
     /// A filled box with opacity.
     Box { colour: &'static str, opacity: f64 },
+    /// A small filled square (a marker).
+    Square { colour: &'static str },
 }
 
 /// One legend entry.
@@ -112,6 +114,9 @@ pub(crate) fn draw_legend(
             Swatch::Dot { colour } => svg.circle(x + SWATCH_W / 2.0, y, 3.5, colour, None),
             Swatch::Box { colour, opacity } => {
                 svg.rect(x, y - 6.0, SWATCH_W, 12.0, colour, opacity, None)
+            }
+            Swatch::Square { colour } => {
+                svg.rect(x + SWATCH_W / 2.0 - 4.5, y - 4.5, 9.0, 9.0, colour, 1.0, None)
             }
         }
         svg.text(x + SWATCH_W + 6.0, y + 4.5, &it.label, TextStyle::new(LABEL_PX, Anchor::Start));

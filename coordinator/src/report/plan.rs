@@ -64,7 +64,8 @@ pub fn plan_svg(
     check_sensors(length_x_m, length_y_m, sensors)?;
     let (w, margin, bottom) = (760.0, 64.0, 48.0);
     let legend = legend(sensors);
-    let top = 30.0 + legend_height(&legend, w - 2.0 * margin) + 16.0;
+    // room over the plan for the arrow of a y sensor on the far edge
+    let top = 30.0 + legend_height(&legend, w - 2.0 * margin) + 16.0 + 30.0;
     let scale = ((w - 2.0 * margin) / length_x_m).min((640.0 - top - bottom) / length_y_m);
     let h = top + bottom + length_y_m * scale;
     let left = (w - length_x_m * scale) / 2.0;
@@ -152,7 +153,7 @@ fn legend(sensors: &[PlanSensor]) -> Vec<LegendItem> {
     if sensors.iter().any(|s| s.kind == SensorKind::Displacement) {
         items.push(LegendItem {
             label: "displacement sensor".into(),
-            swatch: Swatch::Box { colour: series_colour(1), opacity: 1.0 },
+            swatch: Swatch::Square { colour: series_colour(1) },
         });
     }
     if sensors.iter().any(|s| s.highlight) {
