@@ -46,6 +46,8 @@ enum Command {
     Gp(commands::gp::GpCommand),
     /// Sobol' sensitivity indices of a function or a GP emulator of a dataset.
     Sobol(commands::sobol::Args),
+    /// Synthesise a small campaign with a hidden effect and diagnose it (about a minute).
+    Demo(commands::demo::Args),
     /// Diagnose a measured-data bundle: name what the model misses, extend it, measure the gain.
     Diagnose(commands::diagnose::Args),
     /// Simulate a shaking-table campaign and write it as a measured-data bundle.
@@ -81,6 +83,7 @@ fn main() -> std::process::ExitCode {
         Command::Sobol(a) => commands::sobol::run(a),
         Command::Synth(a) => commands::synth::run(a),
         Command::Diagnose(a) => commands::diagnose::run(a),
+        Command::Demo(a) => commands::demo::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

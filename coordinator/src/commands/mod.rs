@@ -2,6 +2,7 @@
 
 pub mod bundle;
 pub mod calibrate;
+pub mod demo;
 pub mod diagnose;
 pub mod fe;
 pub mod gp;

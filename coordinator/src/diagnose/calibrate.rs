@@ -5,11 +5,12 @@
 //! model itself evaluated. Every FE evaluation is kept (its channel fits) so
 //! that the likelihood can be re-weighted without re-running anything.
 
-use super::cause::{Cause, Prior};
+use super::cause::{Cause, Demand, Prior};
 use super::fit::{neg_log_lik, ChannelFit, Evaluation};
 use crate::bundle::Bundle;
 use crate::design::draw;
 use crate::study::DesignMethod;
+use nalgebra::{DMatrix, DVector};
 use stats::gp::{fit, Gp, GpSettings, InputScaling};
 
 /// Budget of a calibration.
@@ -23,6 +24,8 @@ pub struct Budget {
     pub rounds: usize,
     /// FE runs per round.
     pub per_round: usize,
+    /// FE runs of the final local pattern search over every parameter.
+    pub local: usize,
     /// Threads running FE simulations.
     pub threads: usize,
     /// Seed of the design.
@@ -31,7 +34,7 @@ pub struct Budget {
 
 impl Default for Budget {
     fn default() -> Self {
-        Budget { per_dim: 5, extra: 2, rounds: 2, per_round: 2, threads: 2, seed: 1 }
+        Budget { per_dim: 5, extra: 2, rounds: 2, per_round: 2, local: 24, threads: 2, seed: 1 }
     }
 }
 
@@ -56,6 +59,10 @@ pub struct Calibration {
     pub free: Vec<usize>,
     /// Every evaluation, in order.
     pub points: Vec<Point>,
+    /// The baseline demand extension parameters were scaled by.
+    pub demand: Option<Demand>,
+    /// Gauss–Newton matrix of −log L (unit cube) at the final local step.
+    pub gauss_newton: Option<DMatrix<f64>>,
 }
 
 impl Calibration {
@@ -104,11 +111,23 @@ impl Calibration {
     }
 }
 
+/// Residual vectors per channel of one evaluation.
+pub type Residuals = Vec<Vec<f64>>;
+
 /// Runs the FE model at unit-cube points on `threads` threads.
 pub fn evaluate_points(ev: &Evaluation<'_>, us: &[Vec<f64>], threads: usize) -> Vec<Point> {
+    evaluate_full(ev, us, threads).into_iter().map(|(p, _)| p).collect()
+}
+
+/// As [`evaluate_points`], keeping each point's residual vectors.
+pub fn evaluate_full(
+    ev: &Evaluation<'_>,
+    us: &[Vec<f64>],
+    threads: usize,
+) -> Vec<(Point, Option<Residuals>)> {
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let slots: Vec<std::sync::Mutex<Option<Point>>> =
-        us.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    type Slot = std::sync::Mutex<Option<(Point, Option<Residuals>)>>;
+    let slots: Vec<Slot> = us.iter().map(|_| std::sync::Mutex::new(None)).collect();
     std::thread::scope(|s| {
         for _ in 0..threads.max(1).min(us.len().max(1)) {
             s.spawn(|| loop {
@@ -117,9 +136,15 @@ pub fn evaluate_points(ev: &Evaluation<'_>, us: &[Vec<f64>], threads: usize) -> 
                     break;
                 }
                 let theta: Vec<f64> = us[k].iter().zip(ev.priors).map(|(u, p)| p.at(*u)).collect();
-                let fit = ev.simulate(&theta).map(|sims| ev.channels(&sims));
+                let out = match ev.simulate(&theta) {
+                    Ok(sims) => (
+                        Point { u: us[k].clone(), fit: Ok(ev.channels(&sims)) },
+                        Some(ev.residuals(&sims)),
+                    ),
+                    Err(e) => (Point { u: us[k].clone(), fit: Err(e) }, None),
+                };
                 if let Ok(mut slot) = slots[k].lock() {
-                    *slot = Some(Point { u: us[k].clone(), fit });
+                    *slot = Some(out);
                 }
             });
         }
@@ -128,9 +153,8 @@ pub fn evaluate_points(ev: &Evaluation<'_>, us: &[Vec<f64>], threads: usize) -> 
         .into_iter()
         .zip(us)
         .map(|(m, u)| {
-            m.into_inner().ok().flatten().unwrap_or_else(|| Point {
-                u: u.clone(),
-                fit: Err("evaluation thread panicked".into()),
+            m.into_inner().ok().flatten().unwrap_or_else(|| {
+                (Point { u: u.clone(), fit: Err("evaluation thread panicked".into()) }, None)
             })
         })
         .collect()
@@ -147,20 +171,24 @@ pub fn calibrate(
     runs: &[usize],
     n_eff: &[f64],
     budget: &Budget,
-    base: Option<&[f64]>,
+    base: Option<(&[f64], Demand)>,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Calibration {
+    let (base, demand) = match base {
+        Some((u, d)) => (Some(u), Some(d)),
+        None => (None, None),
+    };
     let priors = cause.priors();
     let fixed = base.map_or(0, <[f64]>::len);
     let free: Vec<usize> = (fixed..priors.len()).collect();
     let d = free.len();
-    let ev = Evaluation { bundle, cause, priors: &priors, runs };
+    let ev = Evaluation { bundle, cause, priors: &priors, runs, demand };
     let n0 = budget.per_dim * d + budget.extra;
-    let planned = n0 + budget.rounds * budget.per_round;
+    let planned = n0 + budget.rounds * budget.per_round + budget.local;
     let design = draw(DesignMethod::MaximinLhs, n0, d, budget.seed);
     let embed = |x: &[f64]| -> Vec<f64> { base.unwrap_or(&[]).iter().chain(x).copied().collect() };
     let us: Vec<Vec<f64>> = (0..design.n()).map(|i| embed(design.row(i))).collect();
-    let mut cal = Calibration { cause, priors: priors.clone(), free, points: Vec::new() };
+    let mut cal = Calibration { cause, priors: priors.clone(), free, points: Vec::new(), demand, gauss_newton: None };
     for chunk in us.chunks(budget.threads.max(1) * 2) {
         cal.points.extend(evaluate_points(&ev, chunk, budget.threads));
         progress(cal.points.len(), planned);
@@ -173,7 +201,111 @@ pub fn calibrate(
         cal.points.extend(evaluate_points(&ev, &next, budget.threads));
         progress(cal.points.len(), planned);
     }
+    cal.gauss_newton = levenberg_marquardt(&mut cal, &ev, n_eff, budget, &mut |done| progress(done, planned));
     cal
+}
+
+/// Levenberg–Marquardt on −log L = Σ n_eff/2 · log SSR over every
+/// parameter (an extension re-tunes the baseline's too), from the best
+/// point: forward-difference Jacobians of the residuals (k + 1 FE runs in
+/// parallel), the Gauss–Newton matrix Σ n_eff/SSR · JᵀJ, steps clamped to
+/// the unit cube; stops when the budget is spent or a step gains < 0.01 nats.
+/// Returns the Gauss–Newton matrix at the final point.
+fn levenberg_marquardt(
+    cal: &mut Calibration,
+    ev: &Evaluation<'_>,
+    n_eff: &[f64],
+    budget: &Budget,
+    progress: &mut dyn FnMut(usize),
+) -> Option<DMatrix<f64>> {
+    let k = cal.priors.len();
+    let start = cal.best(n_eff)?;
+    let mut u = cal.points[start].u.clone();
+    let mut f = cal.objective(n_eff)[start];
+    let (mut lambda, mut spent, mut gn): (f64, usize, Option<DMatrix<f64>>) = (1e-3, 0, None);
+    // Extension parameters switch contact or slip on and off: a wider
+    // difference step smooths the jumps that a narrow one would see.
+    let ext = cal.free.len() < k;
+    let steps: Vec<f64> =
+        (0..k).map(|i| if ext && cal.free.contains(&i) { 2e-2 } else { 2e-3 }).collect();
+    while spent + k + 1 <= budget.local {
+        let mut us = vec![u.clone()];
+        for i in 0..k {
+            let h = steps[i];
+            let mut v = u.clone();
+            v[i] = if v[i] + h <= 1.0 { v[i] + h } else { v[i] - h };
+            us.push(v);
+        }
+        let evals = evaluate_full(ev, &us, budget.threads);
+        spent += evals.len();
+        let Some(r0) = evals[0].1.clone() else { break };
+        let ssr: Vec<f64> = r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
+        let mut jt_r = DVector::zeros(k);
+        let mut jt_j = DMatrix::zeros(k, k);
+        let mut cols: Vec<Option<Residuals>> = Vec::with_capacity(k);
+        for (i, (_, ri)) in evals[1..].iter().enumerate() {
+            let step = us[i + 1][i] - u[i];
+            cols.push(ri.as_ref().map(|ri| {
+                ri.iter().zip(&r0).map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect()).collect()
+            }));
+        }
+        if cols.iter().any(Option::is_none) {
+            break;
+        }
+        let cols: Vec<Residuals> = cols.into_iter().flatten().collect();
+        for (c, r) in r0.iter().enumerate() {
+            let w = n_eff.get(c).copied().unwrap_or(0.0) / ssr[c];
+            for a in 0..k {
+                jt_r[a] += w * cols[a][c].iter().zip(r).map(|(x, y)| x * y).sum::<f64>();
+                for b in a..k {
+                    let v = w * cols[a][c].iter().zip(&cols[b][c]).map(|(x, y)| x * y).sum::<f64>();
+                    jt_j[(a, b)] += v;
+                    if a != b {
+                        jt_j[(b, a)] += v;
+                    }
+                }
+            }
+        }
+        for (p, _) in &evals {
+            cal.points.push(p.clone());
+        }
+        gn = Some(jt_j.clone());
+        progress(cal.points.len());
+        let mut moved = false;
+        for _ in 0..4 {
+            if spent + 1 > budget.local + k {
+                break;
+            }
+            let mut a = jt_j.clone();
+            for i in 0..k {
+                a[(i, i)] *= 1.0 + lambda;
+                a[(i, i)] += 1e-12;
+            }
+            let Some(delta): Option<DVector<f64>> = a.cholesky().map(|c| c.solve(&(-&jt_r))) else {
+                break;
+            };
+            let trial: Vec<f64> = u.iter().zip(delta.iter()).map(|(x, d): (&f64, &f64)| (x + d).clamp(0.0, 1.0)).collect();
+            let p = evaluate_points(ev, &[trial.clone()], 1).remove(0);
+            spent += 1;
+            let ft = p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff));
+            cal.points.push(p);
+            progress(cal.points.len());
+            if ft < f {
+                let gain = f - ft;
+                (u, f, moved) = (trial, ft, true);
+                lambda = (lambda * 0.3).max(1e-6);
+                if gain < 0.01 {
+                    return gn;
+                }
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if !moved {
+            break;
+        }
+    }
+    gn
 }
 
 /// Points where the emulator's mean is lowest: the minimiser from a dense

@@ -61,16 +61,66 @@ pub const BASELINE_PRIORS: [Prior; 2] = [
     Prior { name: "damping_ratio", unit: "-", low: 0.01, high: 0.10, log: true },
 ];
 
-/// Gap over nominal gap, 0.002–1.2: from a grid end touching the wall angle
-/// (0.04 mm at a 19 mm nominal gap) to 20 % wider than nominal.
+/// The calibrated baseline's demand on the parts an extension changes,
+/// over the calibration runs: the scale its extra parameters are set on, so
+/// that the search covers where the extra physics acts, whatever the
+/// specimen's size and the runs' amplitudes (beyond the demand an extension
+/// behaves as the baseline).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Demand {
+    /// Peak |deformation| of the perimeter springs (mm).
+    pub perimeter_mm: f64,
+    /// Peak |force| of the perimeter springs (N).
+    pub perimeter_n: f64,
+    /// Peak |axial force| of the grid connections (N).
+    pub connection_n: f64,
+    /// Nominal gap of the specimen (mm).
+    pub nominal_gap_mm: f64,
+}
+
+/// First backbone force of the seed's CJS-A connection (N).
+pub const CJS_A_FIRST_FORCE_N: f64 = 150.0;
+
+/// Gap over the baseline's peak perimeter displacement (≥ 1: never closes).
 const POUNDING: [Prior; 1] =
-    [Prior { name: "gap_ratio", unit: "-", low: 0.002, high: 1.2, log: true }];
+    [Prior { name: "gap_over_demand", unit: "-", low: 0.1, high: 1.5, log: true }];
+/// Slip force over the baseline's peak perimeter force (≥ 1: never slips).
 const FRICTION: [Prior; 1] =
-    [Prior { name: "friction_fy_N", unit: "N", low: 0.3, high: 30.0, log: true }];
+    [Prior { name: "slip_over_demand", unit: "-", low: 0.05, high: 1.5, log: true }];
+/// CJS-A first backbone force over the baseline's peak connection force,
+/// and its initial stiffness over the baseline's elastic K_cc1 (1 and a
+/// first force above the demand: the baseline again).
 const CONNECTION: [Prior; 2] = [
-    Prior { name: "conn_force_scale", unit: "-", low: 0.05, high: 3.0, log: true },
-    Prior { name: "conn_disp_scale", unit: "-", low: 0.2, high: 5.0, log: true },
+    Prior { name: "yield_over_demand", unit: "-", low: 0.1, high: 1.5, log: true },
+    Prior { name: "conn_stiffness_factor", unit: "-", low: 0.2, high: 5.0, log: true },
 ];
+
+/// Initial stiffness of the unscaled CJS-A backbone (N/mm): 150 N at 0.5 mm.
+const CJS_A_INITIAL_N_PER_MM: f64 = 300.0;
+
+/// The FE model parameters of an extension's calibrated ones under `demand`.
+pub fn model_parameters(prior: &Prior, value: f64, other: &[(&str, f64)], demand: &Demand) -> Vec<(&'static str, f64)> {
+    let floor = 1e-6;
+    match prior.name {
+        "gap_over_demand" => {
+            vec![("gap_ratio", (value * demand.perimeter_mm).max(floor) / demand.nominal_gap_mm.max(floor))]
+        }
+        "slip_over_demand" => vec![("friction_fy_N", (value * demand.perimeter_n).max(floor))],
+        "yield_over_demand" => {
+            let force = (value * demand.connection_n / CJS_A_FIRST_FORCE_N).max(floor);
+            let k = other.iter().find(|(n, _)| *n == "conn_stiffness_factor").map_or(1.0, |(_, v)| *v);
+            let k_cc1 = fe::generator::param_info("K_cc1").map_or(800.0, |p| p.midpoint());
+            let disp = force * CJS_A_INITIAL_N_PER_MM / (k * k_cc1);
+            vec![("conn_force_scale", force), ("conn_disp_scale", disp)]
+        }
+        "conn_stiffness_factor" => vec![],
+        name => vec![(name_static(name), value)],
+    }
+}
+
+fn name_static(name: &str) -> &'static str {
+    BASELINE_PRIORS.iter().find(|p| p.name == name).map_or("unknown", |p| p.name)
+}
 
 impl Cause {
     /// Every cause, the baseline first.
@@ -114,6 +164,16 @@ impl Cause {
             Cause::PerimeterPounding => &POUNDING,
             Cause::PerimeterFriction => &FRICTION,
             Cause::ConnectionHysteresis => &CONNECTION,
+        }
+    }
+
+    /// The FE model parameters the extension adds (set from its priors).
+    pub fn model_parameter_names(self) -> &'static [&'static str] {
+        match self {
+            Cause::None => &[],
+            Cause::PerimeterPounding => &["gap_ratio"],
+            Cause::PerimeterFriction => &["friction_fy_N"],
+            Cause::ConnectionHysteresis => &["conn_force_scale", "conn_disp_scale"],
         }
     }
 

@@ -5,7 +5,7 @@
 //! −log L = Σ n_eff/2 · log(SSR/n); and the normalised error RMS(res)/RMS(meas).
 //! Missing readings (NaN) are skipped, never read as zero.
 
-use super::cause::{Cause, Prior};
+use super::cause::{model_parameters, Cause, Demand, Prior};
 use crate::bundle::{Bundle, RunData};
 use crate::specimen::{base_input, fe_spec, simulate_run};
 use fe::ceiling::SimOptions;
@@ -26,6 +26,8 @@ pub struct ChannelFit {
     pub rho: f64,
     /// RMS of the (offset-corrected) measurement.
     pub rms_meas: f64,
+    /// Whether the run shook the sensor's direction.
+    pub excited: bool,
 }
 
 impl ChannelFit {
@@ -34,6 +36,11 @@ impl ChannelFit {
         (self.ssr / self.n.max(1) as f64).sqrt() / self.rms_meas.max(1e-300)
     }
 }
+
+/// Spring group of the perimeter along-axis springs (friction / elastic).
+pub const PERIMETER_GROUP: &str = "perimeter_friction";
+/// Spring group of the grid connections' axial springs.
+pub const CONNECTION_GROUP: &str = "connection_axial";
 
 /// One simulated run at a parameter point: (sensor id, samples) in bundle units.
 pub type Simulated = Vec<(String, Vec<f64>)>;
@@ -48,22 +55,42 @@ pub struct Evaluation<'a> {
     pub priors: &'a [Prior],
     /// Indices of the runs used.
     pub runs: &'a [usize],
+    /// The baseline's demand that extension parameters are scaled by.
+    pub demand: Option<Demand>,
 }
 
 impl Evaluation<'_> {
-    /// Simulates the runs at `theta` (physical values in prior order).
-    pub fn simulate(&self, theta: &[f64]) -> Result<Vec<Simulated>, String> {
+    /// The FE parameters and simulation options at `theta` (prior order).
+    pub fn setup(&self, theta: &[f64]) -> Result<(fe::generator::CeilingSpec, Parameters, SimOptions), String> {
         let spec = fe_spec(&self.bundle.manifest.structure, self.cause.model_options())
             .map_err(|e| e.to_string())?;
         let mut params = Parameters::prior_midpoints_for(&spec);
-        let mut opts = SimOptions::default();
+        let mut opts = SimOptions {
+            rayleigh_groups: vec![PERIMETER_GROUP.into()],
+            ..SimOptions::default()
+        };
+        let named: Vec<(&str, f64)> = self.priors.iter().map(|p| p.name).zip(theta.iter().copied()).collect();
+        let demand = self.demand.unwrap_or(Demand {
+            perimeter_mm: 1.0,
+            perimeter_n: 1.0,
+            connection_n: 1.0,
+            nominal_gap_mm: 1.0,
+        });
         for (p, v) in self.priors.iter().zip(theta) {
             if p.name == "damping_ratio" {
                 opts.damping_ratio = *v;
-            } else {
-                params.set(p.name, *v).map_err(|e| e.to_string())?;
+                continue;
+            }
+            for (name, value) in model_parameters(p, *v, &named, &demand) {
+                params.set(name, value).map_err(|e| e.to_string())?;
             }
         }
+        Ok((spec, params, opts))
+    }
+
+    /// Simulates the runs at `theta` (physical values in prior order).
+    pub fn simulate(&self, theta: &[f64]) -> Result<Vec<Simulated>, String> {
+        let (spec, params, opts) = self.setup(theta)?;
         self.runs
             .iter()
             .map(|&k| {
@@ -76,6 +103,56 @@ impl Evaluation<'_> {
             .collect()
     }
 
+    /// Peak perimeter deformation and force and peak connection force over
+    /// the runs at `theta` (0 for a group the variant lacks).
+    pub fn demand_at(&self, theta: &[f64]) -> Result<Demand, String> {
+        let (spec, params, mut opts) = self.setup(theta)?;
+        opts.spring_groups = vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()];
+        let mut d = Demand {
+            perimeter_mm: 0.0,
+            perimeter_n: 0.0,
+            connection_n: 0.0,
+            nominal_gap_mm: spec.structure.nominal_gap_mm,
+        };
+        for &k in self.runs {
+            let run = &self.bundle.runs[k];
+            let (_, sim) = simulate_run(&spec, &params, &[], &base_input(run), &opts)
+                .map_err(|e| format!("run {}: {e}", run.id))?;
+            d.perimeter_mm = d.perimeter_mm.max(sim.spring_peaks[0].deformation_mm);
+            d.perimeter_n = d.perimeter_n.max(sim.spring_peaks[0].force_n);
+            d.connection_n = d.connection_n.max(sim.spring_peaks[1].force_n);
+        }
+        Ok(d)
+    }
+
+    /// Residuals (simulated − offset-corrected measured) per channel, in the
+    /// order of [`Evaluation::channels`]; 0 where a reading is missing.
+    pub fn residuals(&self, sims: &[Simulated]) -> Vec<Vec<f64>> {
+        let mut out = Vec::new();
+        for (&k, sim) in self.runs.iter().zip(sims) {
+            let run = &self.bundle.runs[k];
+            for (id, s) in sim {
+                if let Some(m) = run.sensor(id) {
+                    let off = pre_event_offset(m, run.dt_s);
+                    out.push(
+                        m.iter()
+                            .zip(s)
+                            .map(|(a, b)| {
+                                let r = b - (a - off);
+                                if r.is_finite() {
+                                    r
+                                } else {
+                                    0.0
+                                }
+                            })
+                            .collect(),
+                    );
+                }
+            }
+        }
+        out
+    }
+
     /// Channel fits of simulated runs against the measured ones.
     pub fn channels(&self, sims: &[Simulated]) -> Vec<ChannelFit> {
         let mut out = Vec::new();
@@ -83,7 +160,9 @@ impl Evaluation<'_> {
             let run = &self.bundle.runs[k];
             for (id, s) in sim {
                 if let Some(m) = run.sensor(id) {
-                    out.push(channel_fit(run, id, m, s));
+                    let mut c = channel_fit(run, id, m, s);
+                    c.excited = excited(self.bundle, run, id);
+                    out.push(c);
                 }
             }
         }
@@ -135,6 +214,16 @@ fn channel_fit(run: &RunData, id: &str, m: &[f64], s: &[f64]) -> ChannelFit {
         n,
         rho,
         rms_meas: (mm / n.max(1) as f64).sqrt(),
+        excited: true,
+    }
+}
+
+/// Whether `run` has an input in the direction sensor `id` measures.
+fn excited(b: &Bundle, run: &RunData, id: &str) -> bool {
+    match b.manifest.sensors.iter().find(|s| s.id == id).map(|s| s.direction) {
+        Some(crate::bundle::Direction::X) => run.input_x_m_s2.is_some(),
+        Some(crate::bundle::Direction::Y) => run.input_y_m_s2.is_some(),
+        None => false,
     }
 }
 
@@ -152,10 +241,13 @@ pub fn neg_log_lik(ch: &[ChannelFit], n_eff: &[f64]) -> f64 {
         .sum()
 }
 
-/// Mean normalised error over channels.
+/// Mean normalised error over the channels in the shaken directions (all
+/// channels when none is).
 pub fn mean_nrmse(ch: &[ChannelFit]) -> f64 {
-    if ch.is_empty() {
+    let shaken: Vec<&ChannelFit> = ch.iter().filter(|c| c.excited).collect();
+    let pick: Vec<&ChannelFit> = if shaken.is_empty() { ch.iter().collect() } else { shaken };
+    if pick.is_empty() {
         return f64::NAN;
     }
-    ch.iter().map(ChannelFit::nrmse).sum::<f64>() / ch.len() as f64
+    pick.iter().map(|c| c.nrmse()).sum::<f64>() / pick.len() as f64
 }

@@ -10,7 +10,11 @@
 //! its standard error. An extension calibrated with the baseline's
 //! parameters held ([`super::calibrate::calibrate`] with `base`) takes the
 //! baseline's geometric term for those (Fisher information taken
-//! block-diagonal). The Laplace approximation at θ̂ gives the posterior spread.
+//! block-diagonal). When the calibration ends with Gauss–Newton steps, the
+//! Fisher information is taken constant over the box at its value at θ̂
+//! ([`laplace_geometric`]; then MDL is the Laplace approximation of the
+//! negative log evidence under the uniform prior), and the Gauss–Newton
+//! matrix gives the posterior spread.
 
 use super::calibrate::Calibration;
 use crate::design::draw;
@@ -94,12 +98,16 @@ pub fn mdl(cal: &Calibration, gp: Option<&Gp>, n_eff: &[f64], held: (f64, f64)) 
     let k = cal.priors.len();
     let n: f64 = n_eff.iter().sum();
     let parametric = 0.5 * k as f64 * (n / (2.0 * std::f64::consts::PI)).ln();
-    let (g, se) = match (cal.free.len(), gp) {
-        (0, _) => (0.0, 0.0),
-        (d, Some(gp)) => geometric_term(gp, d, n)?,
-        (_, None) => return None,
+    let (geometric, geometric_se) = if let Some(h) = &cal.gauss_newton {
+        (laplace_geometric(h, n), 0.0)
+    } else {
+        let (g, se) = match (cal.free.len(), gp) {
+            (0, _) => (0.0, 0.0),
+            (d, Some(gp)) => geometric_term(gp, d, n)?,
+            (_, None) => return None,
+        };
+        (g + held.0, (se * se + held.1 * held.1).sqrt())
     };
-    let (geometric, geometric_se) = (g + held.0, (se * se + held.1 * held.1).sqrt());
     Some(Mdl { fit, parametric, geometric, geometric_se, total: fit + parametric + geometric, k, n_eff: n })
 }
 
@@ -116,6 +124,21 @@ pub fn geometric_term(gp: &Gp, k: usize, n: f64) -> Option<(f64, f64)> {
     let var = vals.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (vals.len() as f64 - 1.0);
     let se = (var / vals.len() as f64).sqrt();
     Some((m.max(1e-300).ln(), se / m.max(1e-300)))
+}
+
+/// The geometric term with the Fisher information constant over the box at
+/// its value at θ̂, H/N (H the Gauss–Newton matrix of −log L at θ̂): then
+/// k/2·log(N/2π) + this = ½·Σ log(max(λᵢ, 2π)/2π), the Laplace Occam factor.
+pub fn laplace_geometric(h: &DMatrix<f64>, n: f64) -> f64 {
+    let (l, _) = abs_eigen(h, 2.0 * std::f64::consts::PI);
+    l.iter().map(|x| 0.5 * (x / n).ln()).sum()
+}
+
+/// Standard deviations (unit cube) from a Gauss–Newton matrix, at most 1.
+pub fn gn_sd(h: &DMatrix<f64>) -> Vec<f64> {
+    let (l, v) = abs_eigen(h, 1e-9);
+    let d = h.nrows();
+    (0..d).map(|i| (0..d).map(|j| v[(i, j)].powi(2) / l[j]).sum::<f64>().sqrt().min(1.0)).collect()
 }
 
 /// Laplace posterior standard deviations (unit cube) at `u`.

@@ -6,7 +6,7 @@
 use super::calibrate::{calibrate, Budget, Calibration};
 use super::cause::Cause;
 use super::fit::{effective_sizes, mean_nrmse, Evaluation, Simulated};
-use super::mdl::{laplace_sd, mdl, Mdl};
+use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use crate::bundle::{Bundle, RunRole};
 
 /// Choices of a diagnosis.
@@ -115,10 +115,13 @@ pub fn diagnose(
     });
     let base_best = base.best(&n_eff0).ok_or("the baseline failed at every design point")?;
     let base_u = base.points[base_best].u.clone();
+    let priors = Cause::None.priors();
+    let ev = Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs: &cal_runs, demand: None };
+    let demand = ev.demand_at(&base.theta(base_best))?;
     let mut cals: Vec<Calibration> = vec![base];
     for c in opts.candidates.iter().copied().filter(|c| *c != Cause::None) {
         let stage = format!("calibrating {}", c.as_str());
-        let cal = calibrate(b, c, &cal_runs, &n_eff0, &opts.budget, Some(&base_u), &mut |d, n| {
+        let cal = calibrate(b, c, &cal_runs, &n_eff0, &opts.budget, Some((&base_u, demand)), &mut |d, n| {
             progress(&stage, d, n)
         });
         cals.push(cal);
@@ -140,13 +143,7 @@ pub fn diagnose(
         }
         results.push(r);
     }
-    let pick = (0..results.len())
-        .filter(|k| results[*k].mdl.is_some())
-        .min_by(|a, b| {
-            let m = |k: usize| results[k].mdl.as_ref().map_or(f64::INFINITY, |m| m.total);
-            m(*a).total_cmp(&m(*b))
-        })
-        .unwrap_or(0);
+    let pick = select(&results);
     results[pick].selected = true;
     let base = results[0].validation_error;
     let ext = results[pick].validation_error;
@@ -163,10 +160,26 @@ pub fn diagnose(
     })
 }
 
+/// MDL differences below this (nats) do not decide: a Bayes factor under e
+/// is "not worth more than a bare mention" (Jeffreys), and the simpler
+/// model is kept.
+pub const TIE_NATS: f64 = 1.0;
+
+/// The candidate with the lowest MDL, the one with fewer parameters among
+/// those within [`TIE_NATS`] of it (the baseline first when tied).
+fn select(results: &[CandidateResult]) -> usize {
+    let m = |k: usize| results[k].mdl.as_ref().map_or(f64::INFINITY, |m| m.total);
+    let best = (0..results.len()).map(m).fold(f64::INFINITY, f64::min);
+    (0..results.len())
+        .filter(|k| m(*k) <= best + TIE_NATS)
+        .min_by_key(|k| (results[*k].cause.priors().len(), *k))
+        .unwrap_or(0)
+}
+
 /// Channel weights from the baseline at its prior mid-point.
 fn midpoint_weights(b: &Bundle, runs: &[usize]) -> Result<Vec<f64>, String> {
     let priors = Cause::None.priors();
-    let ev = Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs };
+    let ev = Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs, demand: None };
     let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
     let sims = ev.simulate(&theta)?;
     Ok(effective_sizes(&ev.channels(&sims)))
@@ -207,7 +220,10 @@ fn assess(
         .as_ref()
         .and_then(|g| laplace_sd(g, &free_u))
         .unwrap_or_else(|| vec![f64::NAN; free_u.len()]);
-    let sd: Vec<f64> = held.sd.iter().take(u.len() - free_u.len()).copied().chain(free_sd).collect();
+    let sd: Vec<f64> = match &cal.gauss_newton {
+        Some(h) => gn_sd(h),
+        None => held.sd.iter().take(u.len() - free_u.len()).copied().chain(free_sd).collect(),
+    };
     out.estimates = cal
         .priors
         .iter()
@@ -224,7 +240,13 @@ fn assess(
     if let Ok(ch) = &cal.points[best].fit {
         out.calibration_error = mean_nrmse(ch);
     }
-    let ev = Evaluation { bundle: b, cause: cal.cause, priors: &cal.priors, runs: val_runs };
+    let ev = Evaluation {
+        bundle: b,
+        cause: cal.cause,
+        priors: &cal.priors,
+        runs: val_runs,
+        demand: cal.demand,
+    };
     if let Ok(sims) = ev.simulate(&cal.theta(best)) {
         out.validation_error = mean_nrmse(&ev.channels(&sims));
         out.validation_sims = sims;

@@ -9,8 +9,8 @@
 //! pounding puts the gap at 85 / 60 / 40 % of the peak perimeter
 //! displacement (weak / moderate / strong); friction puts the slip force at
 //! 70 / 40 / 20 % of the peak perimeter spring force; connection hysteresis
-//! scales the CJS-A backbone so that the peak connection force is 1.2 / 2 /
-//! 4 times its first backbone force (150 N).
+//! scales the CJS-A backbone so that the peak connection force is 1.5 / 4 /
+//! 8 times its first backbone force (150 N).
 
 pub mod input;
 pub mod noise;
@@ -28,12 +28,8 @@ use spec::{Shaking, Strength, SynthSpec};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// Spring group of the perimeter along-axis springs (friction / elastic).
-pub const PERIMETER_GROUP: &str = "perimeter_friction";
-/// Spring group of the grid connections' axial springs.
-pub const CONNECTION_GROUP: &str = "connection_axial";
-/// First backbone force of the seed's CJS-A connection (N).
-const CJS_A_FIRST_FORCE_N: f64 = 150.0;
+pub use crate::diagnose::fit::{CONNECTION_GROUP, PERIMETER_GROUP};
+use crate::diagnose::cause::CJS_A_FIRST_FORCE_N;
 
 /// The truth behind a synthetic bundle (`answer.json`).
 #[derive(Debug, Clone, Serialize)]
@@ -110,7 +106,8 @@ pub fn synthesize(
         spec.runs.iter().zip(&inputs).map(|(r, (a, dt))| base_input(r.direction, a, *dt)).collect();
     let baseline = fe_spec(&spec.structure, Cause::None.model_options())?;
     let mut demand = None;
-    let needs_demand = cause.extra_priors().iter().any(|p| !spec.hidden.parameters.contains_key(p.name));
+    let needs_demand =
+        cause.model_parameter_names().iter().any(|p| !spec.hidden.parameters.contains_key(*p));
     if cause != Cause::None && needs_demand {
         observer("baseline runs to size the hidden effect");
         let p = truth_parameters(spec, &baseline, Cause::None)?;
@@ -150,7 +147,7 @@ fn base_input(dir: Shaking, a: &[f64], dt_s: f64) -> BaseInput {
 fn truth_parameters(spec: &SynthSpec, fe: &CeilingSpec, cause: Cause) -> Result<Parameters, SynthError> {
     let mut p = Parameters::prior_midpoints_for(fe);
     for (name, v) in &spec.truth.parameters {
-        if Cause::None.extra_priors().iter().chain(cause.extra_priors()).any(|x| x.name == name) {
+        if cause.model_parameter_names().contains(&name.as_str()) {
             continue;
         }
         p.set(name, *v).map_err(|e| SynthError::Parameter {
@@ -172,6 +169,7 @@ fn baseline_demand(
     let opts = SimOptions {
         damping_ratio: spec.truth.damping_ratio,
         spring_groups: vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()],
+        rayleigh_groups: vec![PERIMETER_GROUP.into()],
         ..SimOptions::default()
     };
     let mut d = [0.0f64; 3];
@@ -201,19 +199,16 @@ fn effect_values(
     let d = demand.unwrap_or([0.0; 3]);
     let gap_mm = spec.structure.nominal_gap_mm.unwrap_or(0.0).max(1e-9);
     let mut out = BTreeMap::new();
-    for prior in cause.extra_priors() {
-        let v = match spec.hidden.parameters.get(prior.name) {
+    for name in cause.model_parameter_names() {
+        let v = match spec.hidden.parameters.get(*name) {
             Some(v) => *v,
-            None => match prior.name {
+            None => match *name {
                 "gap_ratio" => pick(0.85, 0.6, 0.4) * d[0] / gap_mm,
                 "friction_fy_N" => pick(0.7, 0.4, 0.2) * d[1],
-                "conn_force_scale" | "conn_disp_scale" => {
-                    d[2] / (pick(1.2, 2.0, 4.0) * CJS_A_FIRST_FORCE_N)
-                }
-                _ => prior.at(0.5),
+                _ => d[2] / (pick(1.5, 4.0, 8.0) * CJS_A_FIRST_FORCE_N),
             },
         };
-        out.insert(prior.name.to_string(), v);
+        out.insert(name.to_string(), v);
     }
     out
 }
@@ -229,7 +224,12 @@ fn simulate_runs(
     observer: &mut dyn FnMut(&str),
 ) -> Result<(Runs, Vec<f64>), SynthError> {
     let n_modes = spec.modal.as_ref().map_or(6, |m| m.modes.max(1));
-    let opts = SimOptions { damping_ratio: spec.truth.damping_ratio, n_modes, ..SimOptions::default() };
+    let opts = SimOptions {
+        damping_ratio: spec.truth.damping_ratio,
+        n_modes,
+        rayleigh_groups: vec![PERIMETER_GROUP.into()],
+        ..SimOptions::default()
+    };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
     let mut runs = Vec::new();
     let mut freq_hz = Vec::new();

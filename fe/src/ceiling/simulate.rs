@@ -25,11 +25,21 @@ pub struct SimOptions {
     /// Spring groups whose peak deformation and force are reported
     /// (e.g. `perimeter_friction`).
     pub spring_groups: Vec<String>,
+    /// Spring groups that carry Rayleigh damping whatever the generator
+    /// chose (e.g. `perimeter_friction`, so that a friction variant that
+    /// never slips is damped exactly as the elastic perimeter).
+    pub rayleigh_groups: Vec<String>,
 }
 
 impl Default for SimOptions {
     fn default() -> Self {
-        SimOptions { damping_ratio: 0.05, n_modes: 6, substeps: 1, spring_groups: vec![] }
+        SimOptions {
+            damping_ratio: 0.05,
+            n_modes: 6,
+            substeps: 1,
+            spring_groups: vec![],
+            rayleigh_groups: vec![],
+        }
     }
 }
 
@@ -103,6 +113,11 @@ pub fn simulate(
 ) -> Result<Simulation, CeilingError> {
     check(input, opts)?;
     let mut model = generate(spec, params)?;
+    for sp in model.springs.iter_mut() {
+        if sp.group.as_ref().is_some_and(|g| opts.rayleigh_groups.contains(g)) {
+            sp.rayleigh = true;
+        }
+    }
     let (_, modal) = modal_analysis(&model, opts.n_modes.max(2), &LanczosSettings::default())?;
     let rayleigh = rayleigh_on_first_modes(&modal, opts.damping_ratio)
         .ok_or_else(|| CeilingError::Input("no mode moves mass in x or y".into()))?;
