@@ -185,6 +185,13 @@ fn check_sensors(
         if !seen.insert(opt.id.as_str()) {
             return Err(invalid(format!("{key}.id = {:?}: used twice", opt.id)));
         }
+        let inside = |v: f64, l: f64| (0.0..=l * (1.0 + 1e-9)).contains(&v);
+        if !(inside(opt.x_m, s.length_x_m) && inside(opt.y_m, s.length_y_m)) {
+            return Err(invalid(format!(
+                "{key} ({}): x_m = {}, y_m = {}: outside the ceiling (0..{} m, 0..{} m)",
+                opt.id, opt.x_m, opt.y_m, s.length_x_m, s.length_y_m
+            )));
+        }
         place(&opt.sensor(), &model, s.module_m, nx, ny)
             .map_err(|e| invalid(format!("{key}.x_m/y_m: {e}")))?;
     }

@@ -81,7 +81,11 @@ fn sensor_off_the_ceiling_is_refused_with_its_key() {
         {"id": "A2", "kind": "acceleration", "x_m": 4.0, "y_m": 1.8, "direction": "x"},
     ]);
     let e = build_error(json!({ "sensors": sensors }), &[]);
-    assert!(e.contains("model.sensors[1]") && e.contains("outside"), "{e}");
+    assert!(
+        e.contains("model.sensors[1] (A2): x_m = 4,")
+            && e.contains("outside the ceiling (0..3.6 m"),
+        "{e}"
+    );
 }
 
 #[test]
