@@ -332,7 +332,7 @@ fn uniform_step(t: &[f64]) -> Result<f64, ExcitationError> {
         return err("file", format!("{} samples: expected at least 2", t.len()));
     }
     let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
-    if !(dt > 0.0) {
+    if dt <= 0.0 {
         return err("file", "the time column does not increase".into());
     }
     for (k, w) in t.windows(2).enumerate() {
