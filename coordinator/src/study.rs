@@ -381,6 +381,7 @@ fn validate(raw: RawStudy, path: &Path) -> Result<Study, StudyError> {
         _ => serde_json::Map::new(),
     };
     inline_spec_file(&mut model_options, path, &mut problems);
+    inline_record_file(&mut model_options, path, &mut problems);
     let parameters = check_parameters(raw.parameters, &mut problems);
     let design = check_design(raw.design, &mut problems);
     let farm = check_farm(raw.farm, &mut problems);
@@ -573,6 +574,38 @@ seed = 1
     }
 
     #[test]
+    fn ceiling_record_and_specimen_files_are_inlined() {
+        let dir = tempfile::tempdir().unwrap();
+        let specimen =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs/specimens/small-3p6.toml");
+        std::fs::copy(specimen, dir.path().join("spec.toml")).unwrap();
+        let record = "t_s,ag_g\n0,0\n0.01,0.01\n0.02,0\n";
+        std::fs::write(dir.path().join("rec.csv"), record).unwrap();
+        let text = r#"
+[study]
+name = "c"
+[model]
+kind = "ceiling"
+spec = "spec.toml"
+excitation = { type = "record", file = "rec.csv", units = "g", direction = "x" }
+[[parameters]]
+name = "K_friction"
+low = 15.0
+high = 25.0
+[design]
+method = "lhs"
+n = 4
+seed = 1
+"#;
+        let s = Study::parse(text, &dir.path().join("s.toml")).unwrap();
+        let ex = s.model_options["excitation"].as_object().unwrap();
+        assert_eq!(ex.get("csv").and_then(|v| v.as_str()), Some(record));
+        assert!(!ex.contains_key("file") && !s.model_options.contains_key("spec"));
+        let e = err(&text.replace("rec.csv", "nope.csv"));
+        assert!(e.contains("model.excitation.file = \"nope.csv\""), "{e}");
+    }
+
+    #[test]
     fn log_uniform_maps_geometrically() {
         let p = Parameter {
             name: "r".into(),
@@ -582,6 +615,29 @@ seed = 1
             distribution: Distribution::LogUniform,
         };
         assert!((p.from_unit(0.5) - 10.0).abs() < 1e-12);
+    }
+}
+
+/// Replaces a `[model.excitation] file = "FILE"` (a record CSV, relative to
+/// the study file or else to the working directory) by its text as `csv`,
+/// for the same reasons as [`inline_spec_file`].
+fn inline_record_file(
+    options: &mut serde_json::Map<String, serde_json::Value>,
+    study_path: &Path,
+    problems: &mut Vec<String>,
+) {
+    let Some(serde_json::Value::Object(ex)) = options.get_mut("excitation") else { return };
+    let Some(serde_json::Value::String(file)) = ex.get("file").cloned() else { return };
+    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
+    let found = if beside.is_file() { beside } else { PathBuf::from(&file) };
+    match std::fs::read_to_string(&found) {
+        Ok(text) => {
+            ex.remove("file");
+            ex.insert("csv".into(), serde_json::Value::String(text));
+        }
+        Err(e) => problems.push(format!(
+            "model.excitation.file = {file:?}: cannot read it beside the study file or in the working directory ({e})"
+        )),
     }
 }
 

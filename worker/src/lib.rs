@@ -19,6 +19,7 @@
 //! assert!(matches!(out, protocol::Outcome::Ok(_)));
 //! ```
 
+pub mod ceiling;
 pub mod ceiling_modal;
 pub mod model;
 pub mod models;

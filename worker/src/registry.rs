@@ -1,5 +1,6 @@
 //! The model registry: the study's `[model] kind` → a constructor.
 
+use crate::ceiling::Ceiling;
 use crate::ceiling_modal::CeilingModal;
 use crate::model::{Model, ModelError};
 use crate::models::analytic::{Borehole, Ishigami, Noop, SobolG};
@@ -25,6 +26,7 @@ const KINDS: &[(&str, Constructor)] = &[
     ("noop", |o, _| Ok(Box::new(options::<Noop>("noop", o)?))),
     ("test-faults", |o, n| Ok(Box::new(Faults::new(options("test-faults", o)?, n)?))),
     ("ceiling-modal", |o, n| Ok(Box::new(CeilingModal::new(options("ceiling-modal", o)?, n)?))),
+    ("ceiling", |o, n| Ok(Box::new(Ceiling::new(options("ceiling", o)?, n)?))),
 ];
 
 #[derive(serde::Deserialize)]
