@@ -123,6 +123,7 @@ impl Ceiling {
             n_modes: opts.n_modes,
             substeps: opts.substeps,
             spring_groups: vec![],
+            rayleigh_groups: vec![],
         };
         Ok(Self { spec, base, input, sensors, opts: sim })
     }
