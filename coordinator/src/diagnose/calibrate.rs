@@ -224,7 +224,7 @@ fn levenberg_marquardt(
     let mut f = cal.objective(n_eff)[start];
     let (mut lambda, mut spent, mut gn): (f64, usize, Option<DMatrix<f64>>) = (1e-3, 0, None);
     // Extension parameters switch contact or slip on and off: a wider
-    // difference step smooths the jumps that a narrow one would see.
+    // difference step averages over the jumps that a narrow one would see.
     let ext = cal.free.len() < k;
     let steps: Vec<f64> =
         (0..k).map(|i| if ext && cal.free.contains(&i) { 2e-2 } else { 2e-3 }).collect();

@@ -1,0 +1,86 @@
+//! Tests that hide an effect: synthesise small campaigns (3.6 m x 3.6 m,
+//! three short runs at 100 Hz) with each effect at moderate strength and a
+//! null case with noise only, diagnose them without the answer, and require
+//! the right cause, `none` on the null case, and the gain.
+
+use coordinator::bundle::read_bundle;
+use coordinator::diagnose::calibrate::Budget;
+use coordinator::diagnose::pipeline::{diagnose, DiagnoseOptions};
+use coordinator::synth::synth_to_dir;
+
+/// The demo campaign with another seed, effect and sensor units.
+fn campaign(effect: &str, seed: u64) -> String {
+    let text = include_str!("../configs/synth/demo.toml");
+    let mut out = String::new();
+    for line in text.lines() {
+        let line = if line.starts_with("seed =") {
+            format!("seed = {seed}")
+        } else if line.starts_with("effect =") {
+            format!("effect = \"{effect}\"")
+        } else {
+            line.to_string()
+        };
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
+}
+
+fn run(effect: &str, seed: u64) -> (String, f64) {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = tmp.path().join("campaign.toml");
+    std::fs::write(&spec, campaign(effect, seed)).unwrap();
+    let bundle_dir = tmp.path().join("bundle");
+    let answer = tmp.path().join("answer.json");
+    synth_to_dir(&spec, &bundle_dir, &answer, &mut |_| {}).unwrap();
+    std::fs::remove_file(&answer).unwrap();
+    let b = read_bundle(&bundle_dir).unwrap();
+    let opts = DiagnoseOptions {
+        budget: Budget { seed, ..Budget::default() },
+        ..Default::default()
+    };
+    let d = diagnose(&b, &opts, &mut |_, _, _| {}).unwrap();
+    for c in &d.candidates {
+        eprintln!(
+            "{effect} seed {seed}: {} mdl {:?} val {:.4}{}",
+            c.cause.as_str(),
+            c.mdl.as_ref().map(|m| m.total),
+            c.validation_error,
+            if c.selected { " <- selected" } else { "" }
+        );
+    }
+    (d.cause.as_str().to_string(), d.gain)
+}
+
+#[test]
+fn null_case_is_none() {
+    let (cause, gain) = run("none", 101);
+    assert_eq!(cause, "none");
+    assert_eq!(gain, 0.0);
+}
+
+#[test]
+fn hidden_pounding_is_found() {
+    let (cause, gain) = run("perimeter-pounding", 102);
+    assert_eq!(cause, "perimeter-pounding");
+    assert!(gain > 0.5, "gain {gain}");
+}
+
+#[test]
+fn hidden_friction_is_found() {
+    let (cause, gain) = run("perimeter-friction", 103);
+    assert_eq!(cause, "perimeter-friction");
+    assert!(gain > 0.5, "gain {gain}");
+}
+
+/// Known failure: the cause is named, but the calibrated CJS-A model stays
+/// far from the truth (calibration error 0.22 against a noise floor of
+/// 0.08 on the demo campaign) and extrapolates worse than the baseline to
+/// the stronger validation run (gain −1.02 there).
+#[test]
+#[ignore = "connection-hysteresis: cause found, gain negative (calibration does not converge)"]
+fn hidden_connection_hysteresis_is_found() {
+    let (cause, gain) = run("connection-hysteresis", 104);
+    assert_eq!(cause, "connection-hysteresis");
+    assert!(gain > 0.5, "gain {gain}");
+}
