@@ -22,7 +22,7 @@ fn num(v: f64) -> String {
 
 /// The report page as HTML.
 pub fn render(b: &Bundle, d: &Diagnosis) -> String {
-    let telling = telling_channels(d);
+    let telling = telling_channels(b, d);
     let page = Page {
         title: format!("Diagnosis of {}", b.manifest.name),
         subtitle: format!(
@@ -101,7 +101,10 @@ fn specimen_section(b: &Bundle, telling: &[(usize, String)]) -> Section {
                 ("module / main-tee spacing".into(), format!("{} m / {} m", s.module_m, s.main_tee_spacing_m)),
                 ("hangers".into(), format!("{} m long every {} m", s.hanger_length_m, s.hanger_spacing_m)),
                 ("panel mass".into(), format!("{} kg", s.panel_mass_kg)),
-                ("perimeter".into(), format!("{}, gap {:?} mm", s.boundary.as_str(), s.nominal_gap_mm)),
+                ("perimeter".into(), match s.nominal_gap_mm {
+                    Some(g) => format!("{}, nominal gap {g} mm", s.boundary.as_str()),
+                    None => s.boundary.as_str().to_string(),
+                }),
                 ("runs".into(), b.manifest.runs.iter().map(|r| r.id.clone()).collect::<Vec<_>>().join(", ")),
             ]),
             Block::figure("Plan with the sensors; highlighted: the sensors shown below.", plan),
@@ -177,7 +180,7 @@ fn parameters_section(d: &Diagnosis) -> Section {
         id: "parameters".into(),
         heading: format!("Calibrated parameters of {}", c.cause.as_str()),
         blocks: vec![Block::Table(Table {
-            caption: "Best FE-evaluated point; interval: Laplace approximation (±1 sd) of the emulated posterior.".into(),
+            caption: "Best FE-evaluated point; interval: ±1 sd of the Laplace approximation (Gauss–Newton matrix at the estimate), in prior coordinates.".into(),
             header: ["parameter", "unit", "estimate", "≈68 % interval"].map(String::from).to_vec(),
             rows,
             highlight_row: None,
@@ -185,23 +188,43 @@ fn parameters_section(d: &Diagnosis) -> Section {
     }
 }
 
-/// (validation run index, sensor id) where baseline and chosen model differ most.
-fn telling_channels(d: &Diagnosis) -> Vec<(usize, String)> {
+/// Per validation run, up to two sensors in the shaken direction (the most
+/// telling acceleration and displacement) where the chosen model improves
+/// most on the baseline (all channels when no extension was chosen).
+fn telling_channels(b: &Bundle, d: &Diagnosis) -> Vec<(usize, String)> {
     let base = &d.candidates[0];
     let chosen = d.candidates.iter().find(|c| c.selected).unwrap_or(base);
     let mut out = Vec::new();
     for (k, &run) in d.validation_runs.iter().enumerate() {
-        let (Some(sb), Some(sc)) = (base.validation_sims.get(k), chosen.validation_sims.get(k)) else { continue };
-        let mut best: Option<(f64, String)> = None;
-        for ((id, xb), (_, xc)) in sb.iter().zip(sc) {
-            let diff: Vec<f64> = xb.iter().zip(xc).map(|(a, c)| a - c).collect();
-            let score = rms(&diff) / rms(xb).max(1e-300);
-            if best.as_ref().is_none_or(|(s, _)| score > *s) {
-                best = Some((score, id.clone()));
+        let data = &b.runs[run];
+        let (Some(sb), Some(sc)) = (base.validation_sims.get(k), chosen.validation_sims.get(k)) else {
+            continue;
+        };
+        for kind in [SensorKind::Acceleration, SensorKind::Displacement] {
+            let mut best: Option<(f64, String)> = None;
+            for ((id, xb), (_, xc)) in sb.iter().zip(sc) {
+                let Some(sensor) = b.manifest.sensors.iter().find(|s| &s.id == id) else { continue };
+                let shaken = match sensor.direction {
+                    crate::bundle::Direction::X => data.input_x_m_s2.is_some(),
+                    crate::bundle::Direction::Y => data.input_y_m_s2.is_some(),
+                };
+                let Some(m) = data.sensor(id) else { continue };
+                if sensor.kind != kind || !shaken {
+                    continue;
+                }
+                let off = pre_event_offset(m, data.dt_s);
+                let err = |x: &[f64]| {
+                    let r: Vec<f64> = x.iter().zip(m).map(|(a, b)| a - (b - off)).collect();
+                    rms(&r)
+                };
+                let score = (err(xb) - err(xc)) / rms(m).max(1e-300) + rms(m) * 1e-9;
+                if best.as_ref().is_none_or(|(s, _)| score > *s) {
+                    best = Some((score, id.clone()));
+                }
             }
-        }
-        if let Some((_, id)) = best {
-            out.push((run, id));
+            if let Some((_, id)) = best {
+                out.push((run, id));
+            }
         }
     }
     out
@@ -234,6 +257,7 @@ fn histories_section(b: &Bundle, d: &Diagnosis, telling: &[(usize, String)]) -> 
         }
         let peaks = |y: &[f64]| half_cycle_peaks(y).into_iter().fold(0.0f64, f64::max);
         let stats: Vec<String> = series.iter().map(|s| format!("{} peak {:.3}, RMS {:.3}", s.name, peaks(&s.y), rms(&s.y))).collect();
+        let series_copy = series.clone();
         let plot = line_plot(&LinePlot {
             title: format!("run {}, sensor {id}", data.id),
             x_label: "time (s)".into(),
@@ -244,10 +268,34 @@ fn histories_section(b: &Bundle, d: &Diagnosis, telling: &[(usize, String)]) -> 
             size: PlotSize::default(),
         });
         blocks.push(Block::figure(&format!("Validation run {}, sensor {id}: measured vs models.", data.id), plot));
+        if let Some(zoom) = zoomed(&series_copy, data.dt_s, &format!("run {}, sensor {id}, around the measured peak", data.id), unit) {
+            blocks.push(Block::figure(&format!("The same, 3 s around the measured peak of {id}."), zoom));
+        }
         blocks.push(Block::Paragraph(stats.join("; ")));
     }
     if blocks.is_empty() {
         blocks.push(Block::Note { kind: NoteKind::Info, text: "No validation histories to show.".into() });
     }
     Section { id: "histories".into(), heading: "Time histories at the telling sensors".into(), blocks }
+}
+
+/// The series cut to 3 s around the first series' largest |value|.
+fn zoomed(series: &[Series], dt_s: f64, title: &str, unit: &str) -> Option<Result<String, crate::report::ReportError>> {
+    let first = series.first()?;
+    let k = (0..first.y.len()).filter(|i| first.y[*i].is_finite()).max_by(|a, b| first.y[*a].abs().total_cmp(&first.y[*b].abs()))?;
+    let half = (1.5 / dt_s) as usize;
+    let (lo, hi) = (k.saturating_sub(half), (k + half).min(first.y.len()));
+    let cut: Vec<Series> = series
+        .iter()
+        .map(|s| Series { name: s.name.clone(), x: s.x[lo..hi].to_vec(), y: s.y[lo..hi].to_vec(), style: s.style })
+        .collect();
+    Some(line_plot(&LinePlot {
+        title: title.into(),
+        x_label: "time (s)".into(),
+        y_label: unit.into(),
+        series: cut,
+        log_x: false,
+        log_y: false,
+        size: PlotSize::default(),
+    }))
 }
