@@ -133,6 +133,8 @@ pub struct StepReport {
     pub substeps: usize,
     /// Factorizations so far.
     pub factorizations: usize,
+    /// Low-rank (Woodbury) corrections of a kept factorization so far.
+    pub low_rank_updates: usize,
 }
 
 /// Runs the model's transient analysis; `observer` hears every step.
@@ -229,6 +231,7 @@ pub fn run_plan(
             iterations: cost.iterations,
             substeps: cost.substeps,
             factorizations: sys.factorizations,
+            low_rank_updates: sys.low_rank_updates,
         });
     }
     Ok(hist)

@@ -110,6 +110,8 @@ pub struct Dynamics<'a> {
     changes: Vec<(usize, f64)>,
     /// Number of factorizations done.
     pub factorizations: usize,
+    /// Number of low-rank (Woodbury) corrections set up on a kept factor.
+    pub low_rank_updates: usize,
     work: Vec<f64>,
 }
 
@@ -142,6 +144,7 @@ impl<'a> Dynamics<'a> {
             spring_eqs: s.springs.iter().map(|sp| sp.eqs).collect(),
             changes: Vec::new(),
             factorizations: 0,
+            low_rank_updates: 0,
             work: vec![0.0; n],
         }
     }
@@ -184,6 +187,7 @@ impl<'a> Dynamics<'a> {
             if self.changes.len() <= MAX_RANK {
                 let n = self.s.pattern.n;
                 if self.low_rank.set(base, &self.spring_eqs, n, &self.changes) {
+                    self.low_rank_updates += 1;
                     return Ok(());
                 }
             }
