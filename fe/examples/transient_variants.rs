@@ -8,7 +8,7 @@
 //! (to compare answers between solver versions).
 //!
 //! `cargo run -p ceilfarm-fe --example transient_variants -- [small|type-c|all]
-//!  [rigid|elastic|pinching4|all] [N_STEPS] [OUT_DIR]`
+//!  [rigid|elastic|pinching4|all] [N_STEPS] [OUT_DIR|-] [auto|simplicial|supernodal]`
 //!
 //! With `OUT_DIR` every run's history is written there as
 //! `<specimen>_<connections>.csv`. Records are read from the shared
@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 
 use fe::generator::{generate, CeilingSpec, Connections, ModelOptions, Parameters, Perimeter};
 use fe::model::{Analysis, Damping, Model};
-use fe::transient::{run_model, write_history_csv, History, TransientOptions};
+use fe::transient::{run_model, write_history_csv, CholeskyLayout, History, TransientOptions};
 use serde_json::json;
 
 /// The shared verification folder.
@@ -92,7 +92,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let which = args.get(1).map_or("all", String::as_str);
     let conn = args.get(2).map_or("all", String::as_str);
     let n_steps: usize = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(4000);
-    let out_dir = args.get(4).map(PathBuf::from);
+    let out_dir = args.get(4).filter(|d| *d != "-").map(PathBuf::from);
+    let layout = match args.get(5).map(String::as_str) {
+        Some("auto") | None => CholeskyLayout::Auto,
+        Some("simplicial") => CholeskyLayout::Simplicial,
+        Some("supernodal") => CholeskyLayout::Supernodal,
+        Some(other) => {
+            return Err(format!("layout {other:?}: expected auto, simplicial or supernodal").into())
+        }
+    };
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let type_c = CeilingSpec::from_toml_file(&root.join("configs/specimens/type-c.toml"))?;
     let mut small = type_c.clone();
@@ -111,21 +119,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let m = generate(&spec, &Parameters::prior_midpoints_for(&spec))?;
             let n_springs = m.springs.len();
             let m = with_sweep(m, n_steps);
-            let (mut steps, mut iters, mut subs, mut facts, mut lr) = (0, 0, 0, 0, 0);
+            let (mut steps, mut iters, mut subs, mut facts, mut lr, mut cols) = (0, 0, 0, 0, 0, 0);
             let c0 = cpu_s();
-            let h = run_model(&m, &TransientOptions::new(&records), &mut |s| {
+            let mut opts = TransientOptions::new(&records);
+            opts.cholesky = layout;
+            let h = run_model(&m, &opts, &mut |s| {
                 steps = s.step;
                 iters += s.iterations;
                 subs += s.substeps;
                 facts = s.factorizations;
                 lr = s.low_rank_updates;
+                cols = s.column_solves;
             })?;
             let cpu = cpu_s() - c0;
             println!(
-                "{{\"specimen\": \"{name}\", \"connections\": \"{}\", \"springs\": {n_springs}, \
+                "{{\"specimen\": \"{name}\", \"connections\": \"{}\", \"layout\": \"{layout:?}\", \"springs\": {n_springs}, \
                  \"cpu_s\": {cpu:.2}, \"steps\": {steps}, \"substeps\": {subs}, \
                  \"newton_iterations\": {iters}, \"factorizations\": {facts}, \
-                 \"low_rank_updates\": {lr}, \"peak_u_x_mm\": {:.9e}, \"peak_friction_mm\": {:.9e}, \
+                 \"low_rank_updates\": {lr}, \"column_solves\": {cols}, \"peak_u_x_mm\": {:.9e}, \"peak_friction_mm\": {:.9e}, \
                  \"peak_gap_n\": {:.9e}, \"peak_joint_mm\": {:.9e}}}",
                 c.name(),
                 peak(&h, "u_x"),

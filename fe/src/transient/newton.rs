@@ -7,12 +7,12 @@
 //! Equation of motion relative to the base: M ü + C u̇ + F_int(u) = −M r a_g.
 //! Units: N, mm, s, t.
 
-use super::factor_cache::FactorCache;
+use super::factor_cache::{CholeskyLayout, FactorCache, TangentFactor};
 use super::low_rank::{LowRankUpdate, SpringEqs};
 use super::newmark::NewmarkConstants;
+use super::round_off::{at_round_off, residual_scale};
 use super::springs::{SpringFailure, SpringStates};
 use crate::assembly::Structure;
-use crate::eigen::factor::SparseFactor;
 
 /// Displacement, velocity and acceleration relative to the base (free DOFs).
 #[derive(Debug, Clone, PartialEq)]
@@ -32,19 +32,28 @@ impl Kinematics {
     }
 }
 
-/// Newton settings.
+/// Newton settings: converged when ‖Δu‖₂ < `tol_mm`, or when the residual
+/// the increment was solved from is at its round-off floor
+/// ([`super::round_off`]: every |R_e| ≤ `floor_factor` ε Σ|terms of R_e|)
+/// and ‖Δu‖₂ < `floor_tol_mm`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NewtonSettings {
     /// Converged when ‖Δu‖₂ < this (mm).
     pub tol_mm: f64,
     /// Iterations before giving up.
     pub max_iter: usize,
+    /// Multiple of ε Σ|terms| below which a residual is round-off.
+    pub floor_factor: f64,
+    /// Largest ‖Δu‖₂ accepted with a round-off residual (mm); the floor is
+    /// tested only once the previous increment was below it.
+    pub floor_tol_mm: f64,
 }
 
 impl Default for NewtonSettings {
-    /// The fixtures' settings: 1e-10 mm, 50 iterations.
+    /// The fixtures' settings: 1e-10 mm, 50 iterations; a round-off
+    /// residual (64 ε) with ‖Δu‖₂ < 1e-7 mm also converges.
     fn default() -> Self {
-        NewtonSettings { tol_mm: 1e-10, max_iter: 50 }
+        NewtonSettings { tol_mm: 1e-10, max_iter: 50, floor_factor: 64.0, floor_tol_mm: 1e-7 }
     }
 }
 
@@ -103,7 +112,7 @@ pub struct Dynamics<'a> {
     base_dt_s: f64,
     base_eff: Vec<f64>,
     factored_tangents: Option<Vec<f64>>,
-    factor: Option<SparseFactor>,
+    factor: Option<TangentFactor>,
     cache: FactorCache,
     low_rank: LowRankUpdate,
     spring_eqs: Vec<SpringEqs>,
@@ -116,8 +125,14 @@ pub struct Dynamics<'a> {
 }
 
 impl<'a> Dynamics<'a> {
-    /// The system of a structure with Rayleigh coefficients α (1/s) and β (s).
-    pub fn new(s: &'a Structure, alpha_m_per_s: f64, beta_k_s: f64) -> Self {
+    /// The system of a structure with Rayleigh coefficients α (1/s) and β
+    /// (s), factorized with the given Cholesky layout.
+    pub fn new(
+        s: &'a Structure,
+        alpha_m_per_s: f64,
+        beta_k_s: f64,
+        layout: CholeskyLayout,
+    ) -> Self {
         let diag = s.diagonal_positions();
         let mut kr = s.beam_values.clone();
         let k0: Vec<f64> = s
@@ -139,7 +154,7 @@ impl<'a> Dynamics<'a> {
             base_eff: Vec::new(),
             factored_tangents: None,
             factor: None,
-            cache: FactorCache::new(&s.pattern),
+            cache: FactorCache::new(&s.pattern, layout),
             low_rank: LowRankUpdate::default(),
             spring_eqs: s.springs.iter().map(|sp| sp.eqs).collect(),
             changes: Vec::new(),
@@ -152,6 +167,11 @@ impl<'a> Dynamics<'a> {
     /// The structure.
     pub fn structure(&self) -> &Structure {
         self.s
+    }
+
+    /// Solves done for low-rank correction columns so far.
+    pub fn column_solves(&self) -> usize {
+        self.low_rank.column_solves
     }
 
     /// Makes sure the factor matches step `nm` and the current spring tangents.
@@ -248,6 +268,7 @@ impl<'a> Dynamics<'a> {
     ) -> Result<usize, NewtonFailure> {
         trial.u.clone_from(&committed.u);
         let mut r = vec![0.0; committed.u.len()];
+        let mut scale = vec![0.0; committed.u.len()];
         let mut last = f64::NAN;
         for it in 1..=settings.max_iter {
             springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
@@ -260,6 +281,10 @@ impl<'a> Dynamics<'a> {
                 &mut trial.a,
             );
             self.residual(trial, springs, ext, &mut r);
+            let floor = last < settings.floor_tol_mm && {
+                residual_scale(self.s, &self.c_values, trial, springs, ext, &mut scale);
+                at_round_off(&r, &scale, settings.floor_factor)
+            };
             self.ensure_factor(nm, &springs.tangent_n_mm)?;
             if let Some(f) = &self.factor {
                 f.solve_in_place(&mut r);
@@ -271,7 +296,7 @@ impl<'a> Dynamics<'a> {
             }
             trial.u.iter_mut().zip(&r).for_each(|(u, d)| *u += d);
             last = norm;
-            if norm < settings.tol_mm {
+            if norm < settings.tol_mm || (floor && norm < settings.floor_tol_mm) {
                 springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
                 nm.update_all(
                     &trial.u,
