@@ -8,7 +8,8 @@
 //! (to compare answers between solver versions).
 //!
 //! `cargo run -p ceilfarm-fe --example transient_variants -- [small|type-c|all]
-//!  [rigid|elastic|pinching4|all] [N_STEPS] [OUT_DIR|-] [auto|simplicial|supernodal]`
+//!  [rigid|elastic|pinching4|all] [N_STEPS] [OUT_DIR|-] [auto|simplicial|supernodal]
+//!  [STALE_MAX_ITER]`
 //!
 //! With `OUT_DIR` every run's history is written there as
 //! `<specimen>_<connections>.csv`. Records are read from the shared
@@ -93,6 +94,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let conn = args.get(2).map_or("all", String::as_str);
     let n_steps: usize = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(4000);
     let out_dir = args.get(4).filter(|d| *d != "-").map(PathBuf::from);
+    let stale_max_iter: usize = args.get(6).map(|s| s.parse()).transpose()?.unwrap_or(0);
     let layout = match args.get(5).map(String::as_str) {
         Some("auto") | None => CholeskyLayout::Auto,
         Some("simplicial") => CholeskyLayout::Simplicial,
@@ -119,10 +121,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let m = generate(&spec, &Parameters::prior_midpoints_for(&spec))?;
             let n_springs = m.springs.len();
             let m = with_sweep(m, n_steps);
-            let (mut steps, mut iters, mut subs, mut facts, mut lr, mut cols) = (0, 0, 0, 0, 0, 0);
+            let (mut steps, mut iters, mut subs, mut facts, mut lr, mut cols, mut stale) =
+                (0, 0, 0, 0, 0, 0, 0);
             let c0 = cpu_s();
             let mut opts = TransientOptions::new(&records);
             opts.cholesky = layout;
+            opts.newton.stale_max_iter = stale_max_iter;
             let h = run_model(&m, &opts, &mut |s| {
                 steps = s.step;
                 iters += s.iterations;
@@ -130,13 +134,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 facts = s.factorizations;
                 lr = s.low_rank_updates;
                 cols = s.column_solves;
+                stale = s.stale_iterations;
             })?;
             let cpu = cpu_s() - c0;
             println!(
                 "{{\"specimen\": \"{name}\", \"connections\": \"{}\", \"layout\": \"{layout:?}\", \"springs\": {n_springs}, \
                  \"cpu_s\": {cpu:.2}, \"steps\": {steps}, \"substeps\": {subs}, \
                  \"newton_iterations\": {iters}, \"factorizations\": {facts}, \
-                 \"low_rank_updates\": {lr}, \"column_solves\": {cols}, \"peak_u_x_mm\": {:.9e}, \"peak_friction_mm\": {:.9e}, \
+                 \"low_rank_updates\": {lr}, \"column_solves\": {cols}, \"stale_iterations\": {stale}, \"peak_u_x_mm\": {:.9e}, \"peak_friction_mm\": {:.9e}, \
                  \"peak_gap_n\": {:.9e}, \"peak_joint_mm\": {:.9e}}}",
                 c.name(),
                 peak(&h, "u_x"),

@@ -11,6 +11,7 @@
 pub mod excitation;
 pub mod factor_cache;
 pub mod history;
+pub mod krylov;
 pub mod low_rank;
 pub mod newmark;
 pub mod newton;
@@ -143,6 +144,8 @@ pub struct StepReport {
     pub low_rank_updates: usize,
     /// Solves for low-rank correction columns so far.
     pub column_solves: usize,
+    /// Krylov-accelerated iterations on a kept approximate tangent so far.
+    pub stale_iterations: usize,
 }
 
 /// Runs the model's transient analysis; `observer` hears every step.
@@ -241,6 +244,7 @@ pub fn run_plan(
             factorizations: sys.factorizations,
             low_rank_updates: sys.low_rank_updates,
             column_solves: sys.column_solves(),
+            stale_iterations: sys.stale_iterations,
         });
     }
     Ok(hist)

@@ -8,6 +8,7 @@
 //! Units: N, mm, s, t.
 
 use super::factor_cache::{CholeskyLayout, FactorCache, TangentFactor};
+use super::krylov::KrylovAccelerator;
 use super::low_rank::{LowRankUpdate, SpringEqs};
 use super::newmark::NewmarkConstants;
 use super::round_off::{at_round_off, residual_scale};
@@ -47,13 +48,23 @@ pub struct NewtonSettings {
     /// Largest ‖Δu‖₂ accepted with a round-off residual (mm); the floor is
     /// tested only once the previous increment was below it.
     pub floor_tol_mm: f64,
+    /// Krylov-accelerated iterations allowed per step on a kept factor whose
+    /// tangent differs in more springs than the low-rank correction takes,
+    /// before refactorizing (0: refactorize at once).
+    pub stale_max_iter: usize,
 }
 
 impl Default for NewtonSettings {
     /// The fixtures' settings: 1e-10 mm, 50 iterations; a round-off
     /// residual (64 ε) with ‖Δu‖₂ < 1e-7 mm also converges.
     fn default() -> Self {
-        NewtonSettings { tol_mm: 1e-10, max_iter: 50, floor_factor: 64.0, floor_tol_mm: 1e-7 }
+        NewtonSettings {
+            tol_mm: 1e-10,
+            max_iter: 50,
+            floor_factor: 64.0,
+            floor_tol_mm: 1e-7,
+            stale_max_iter: 0,
+        }
     }
 }
 
@@ -102,6 +113,22 @@ impl std::fmt::Display for NewtonFailure {
 /// full refactorization.
 const MAX_RANK: usize = 24;
 
+/// An approximate-tangent iteration must shrink the increment by at least
+/// this factor, else the next iteration refactorizes.
+const STALE_MIN_CONTRACTION: f64 = 0.5;
+
+/// Most directions kept by the Krylov accelerator.
+const KRYLOV_MAX_DIM: usize = 8;
+
+/// The operator an iteration solved with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Operator {
+    /// The current tangent (factor plus exact low-rank correction).
+    Exact,
+    /// A kept factorization of an earlier tangent.
+    Stale,
+}
+
 /// The constant parts of the dynamic system and the factorization cache.
 pub struct Dynamics<'a> {
     s: &'a Structure,
@@ -121,6 +148,11 @@ pub struct Dynamics<'a> {
     pub factorizations: usize,
     /// Number of low-rank (Woodbury) corrections set up on a kept factor.
     pub low_rank_updates: usize,
+    /// Number of Krylov-accelerated iterations on a kept approximate tangent.
+    pub stale_iterations: usize,
+    /// Changes whenever the factor or its correction changes.
+    operator_id: u64,
+    krylov: KrylovAccelerator,
     work: Vec<f64>,
 }
 
@@ -160,6 +192,9 @@ impl<'a> Dynamics<'a> {
             changes: Vec::new(),
             factorizations: 0,
             low_rank_updates: 0,
+            stale_iterations: 0,
+            operator_id: 0,
+            krylov: KrylovAccelerator::default(),
             work: vec![0.0; n],
         }
     }
@@ -174,12 +209,16 @@ impl<'a> Dynamics<'a> {
         self.low_rank.column_solves
     }
 
-    /// Makes sure the factor matches step `nm` and the current spring tangents.
-    fn ensure_factor(
+    /// Chooses the operator of this iteration: the factor with an exact
+    /// low-rank correction for the current spring tangents (`Exact`), the
+    /// kept operator as an approximate tangent when `allow_stale` and too many
+    /// springs changed (`Stale`), or else a fresh factorization (`Exact`).
+    fn prepare_operator(
         &mut self,
         nm: &NewmarkConstants,
         tangents: &[f64],
-    ) -> Result<(), NewtonFailure> {
+        allow_stale: bool,
+    ) -> Result<Operator, NewtonFailure> {
         if self.base_dt_s != nm.dt_s {
             self.base_eff = self
                 .s
@@ -202,14 +241,18 @@ impl<'a> Dynamics<'a> {
                 }
             }
             if self.low_rank.is(&self.changes) {
-                return Ok(());
+                return Ok(Operator::Exact);
             }
             if self.changes.len() <= MAX_RANK {
                 let n = self.s.pattern.n;
+                self.operator_id += 1;
                 if self.low_rank.set(base, &self.spring_eqs, n, &self.changes) {
                     self.low_rank_updates += 1;
-                    return Ok(());
+                    return Ok(Operator::Exact);
                 }
+            }
+            if allow_stale {
+                return Ok(Operator::Stale);
             }
         }
         let mut values = self.base_eff.clone();
@@ -221,8 +264,9 @@ impl<'a> Dynamics<'a> {
         self.factor = Some(f);
         self.factored_tangents = Some(tangents.to_vec());
         self.low_rank.reset();
+        self.operator_id += 1;
         self.factorizations += 1;
-        Ok(())
+        Ok(Operator::Exact)
     }
 
     /// Residual R = −Σ M r a_g − M a − C v − K_beam u − F_springs into `out`
@@ -270,6 +314,8 @@ impl<'a> Dynamics<'a> {
         let mut r = vec![0.0; committed.u.len()];
         let mut scale = vec![0.0; committed.u.len()];
         let mut last = f64::NAN;
+        let (mut stale_iters, mut allow_stale) = (0, settings.stale_max_iter > 0);
+        let mut krylov_operator = None;
         for it in 1..=settings.max_iter {
             springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
             nm.update_all(
@@ -285,14 +331,29 @@ impl<'a> Dynamics<'a> {
                 residual_scale(self.s, &self.c_values, trial, springs, ext, &mut scale);
                 at_round_off(&r, &scale, settings.floor_factor)
             };
-            self.ensure_factor(nm, &springs.tangent_n_mm)?;
+            let allow = allow_stale && stale_iters < settings.stale_max_iter;
+            let op = self.prepare_operator(nm, &springs.tangent_n_mm, allow)?;
             if let Some(f) = &self.factor {
                 f.solve_in_place(&mut r);
                 self.low_rank.correct(&self.spring_eqs, &mut r);
             }
+            if op == Operator::Stale {
+                if krylov_operator != Some(self.operator_id) {
+                    self.krylov.reset();
+                    krylov_operator = Some(self.operator_id);
+                }
+                self.krylov.accelerate(&mut r, KRYLOV_MAX_DIM);
+                stale_iters += 1;
+                self.stale_iterations += 1;
+            } else {
+                krylov_operator = None;
+            }
             let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
             if !norm.is_finite() {
                 return Err(NewtonFailure::NonFinite { iteration: it });
+            }
+            if op == Operator::Stale && norm > STALE_MIN_CONTRACTION * last {
+                allow_stale = false;
             }
             trial.u.iter_mut().zip(&r).for_each(|(u, d)| *u += d);
             last = norm;
