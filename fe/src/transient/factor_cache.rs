@@ -78,7 +78,8 @@ impl TangentFactor {
 
 /// x ← A⁻¹ x for A = Pᵀ L Lᵀ P, L in CSC with the diagonal first in each
 /// column, `fwd[i]` the original index of permuted row i: a column-oriented
-/// forward and a row-oriented backward substitution.
+/// forward substitution (skipping zeros, so a sparse right-hand side costs
+/// only its elimination-tree reach) and a row-oriented backward one.
 fn solve_simplicial(
     col_ptr: &[usize],
     row_idx: &[usize],
@@ -93,6 +94,11 @@ fn solve_simplicial(
     };
     for j in 0..n {
         let (a, b) = (col_ptr[j], col_ptr[j + 1]);
+        if y[j] == 0.0 {
+            // Sparse right-hand sides (low-rank columns e_j - e_i): a zero
+            // stays zero and updates nothing.
+            continue;
+        }
         let yj = y[j] / l[a];
         y[j] = yj;
         for (r, v) in row_idx[a + 1..b].iter().zip(&l[a + 1..b]) {
