@@ -1,8 +1,12 @@
 //! One Newmark step solved by Newton iterations on the sparse effective
 //! tangent K_eff = K_t + γ/(βΔt) C + 1/(βΔt²) M, converged when the 2-norm
 //! of the displacement increment over the free DOFs falls below a tolerance
-//! (OpenSees `test NormDispIncr`). The factorization is kept and reused while
-//! the step size and every spring tangent are unchanged.
+//! (OpenSees `test NormDispIncr`) or when the residual sits at its round-off
+//! floor ([`super::round_off`]). The factorization is kept and reused while
+//! the step size is unchanged: exactly, with a low-rank correction for up to
+//! 24 springs whose tangent changed ([`super::low_rank`]); beyond that it is
+//! refactorized, or optionally used as an approximate tangent with Krylov
+//! acceleration ([`super::krylov`], `NewtonSettings::stale_max_iter`).
 //!
 //! Equation of motion relative to the base: M ü + C u̇ + F_int(u) = −M r a_g.
 //! Units: N, mm, s, t.
