@@ -4,25 +4,25 @@
 //! falls back to a full sparse LU.
 //!
 //! The Cholesky factor is simplicial (column by column) or supernodal
-//! (dense blocks of columns with the same structure). A simplicial factor
-//! is solved by plain substitutions here, about twice as fast as faer's
-//! generic ones in the dev profile. With faer's solves on the generated
-//! type-C grids (`examples/transient_variants.rs`, 800 steps, CPU s) the
-//! supernodal layout was faster for rigid connections (release 1.62 ->
-//! 1.37 s), slower for elastic ones (2.81 -> 3.34 s), even for Pinching4
-//! (9.52 / 9.74 s; dev profile 15.0 -> 13.6 s); faer's own choice
-//! (simplicial here) stays the default.
+//! (dense blocks of columns with the same structure). Both are solved by
+//! plain substitutions here, about twice as fast as faer's generic ones in
+//! the dev profile, and skipping zeros in the forward pass. On the generated
+//! type-C grids (`examples/transient_variants.rs`, first 800 steps, dev, CPU
+//! s) the supernodal layout gave Pinching4 10.9 -> 9.9 s, elastic 2.45 ->
+//! 2.30 s, rigid 1.34 -> 1.44 s: within the shared machine's noise, so
+//! faer's own choice (simplicial here) stays the default.
 
 use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
-    SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Par, Side};
 
 use crate::assembly::SparsePattern;
 use crate::eigen::factor::SparseFactor;
@@ -59,19 +59,13 @@ impl TangentFactor {
     pub fn solve_in_place(&self, x: &mut [f64]) {
         match self {
             TangentFactor::Cholesky { symbolic, values } => {
-                if let SymbolicCholeskyRaw::Simplicial(l) = symbolic.raw() {
-                    let fwd = symbolic.perm().map(|p| p.arrays().0);
-                    solve_simplicial(l.col_ptr(), l.row_idx(), values, fwd, x);
-                    return;
+                let fwd = symbolic.perm().map(|p| p.arrays().0);
+                match symbolic.raw() {
+                    SymbolicCholeskyRaw::Simplicial(l) => {
+                        solve_simplicial(l.col_ptr(), l.row_idx(), values, fwd, x);
+                    }
+                    SymbolicCholeskyRaw::Supernodal(l) => solve_supernodal(l, values, fwd, x),
                 }
-                let n = x.len();
-                let mut buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-                LltRef::new(symbolic, values).solve_in_place_with_conj(
-                    Conj::No,
-                    MatMut::from_column_major_slice_mut(x, n, 1),
-                    Par::Seq,
-                    MemStack::new(&mut buf),
-                );
             }
             TangentFactor::General(f) => f.solve_in_place(x),
         }
@@ -114,6 +108,66 @@ fn solve_simplicial(
             s -= v * y[*r];
         }
         y[j] = s / l[a];
+    }
+    match fwd {
+        Some(f) => f.iter().zip(&y).for_each(|(&i, v)| x[i] = *v),
+        None => x.copy_from_slice(&y),
+    }
+}
+
+/// x ← A⁻¹ x for A = Pᵀ L Lᵀ P with L supernodal: each supernode is a
+/// dense column-major block (its columns' diagonal block on top of the rows
+/// of its pattern).
+fn solve_supernodal(
+    l: &SymbolicSupernodalCholesky<usize>,
+    values: &[f64],
+    fwd: Option<&[usize]>,
+    x: &mut [f64],
+) {
+    let mut y: Vec<f64> = match fwd {
+        Some(f) => f.iter().map(|&i| x[i]).collect(),
+        None => x.to_vec(),
+    };
+    let ns = l.n_supernodes();
+    let block = |s: usize| {
+        let (b, e) = (l.supernode_begin()[s], l.supernode_end()[s]);
+        let start = l.col_ptr_for_row_idx()[s];
+        let pattern = &l.row_idx()[start..start + l.nnz_per_super()[s]];
+        let vals = &values[l.col_ptr_for_val()[s]..l.col_ptr_for_val()[s + 1]];
+        (b, e - b, pattern, vals)
+    };
+    for s in 0..ns {
+        let (b, w, pattern, v) = block(s);
+        let m = w + pattern.len();
+        for c in 0..w {
+            let col = &v[c * m..(c + 1) * m];
+            let yc = y[b + c] / col[c];
+            y[b + c] = yc;
+            if yc == 0.0 {
+                continue;
+            }
+            for r in c + 1..w {
+                y[b + r] -= col[r] * yc;
+            }
+            for (row, lv) in pattern.iter().zip(&col[w..]) {
+                y[*row] -= lv * yc;
+            }
+        }
+    }
+    for s in (0..ns).rev() {
+        let (b, w, pattern, v) = block(s);
+        let m = w + pattern.len();
+        for c in (0..w).rev() {
+            let col = &v[c * m..(c + 1) * m];
+            let mut acc = y[b + c];
+            for (row, lv) in pattern.iter().zip(&col[w..]) {
+                acc -= lv * y[*row];
+            }
+            for r in c + 1..w {
+                acc -= col[r] * y[b + r];
+            }
+            y[b + c] = acc / col[c];
+        }
     }
     match fwd {
         Some(f) => f.iter().zip(&y).for_each(|(&i, v)| x[i] = *v),
@@ -211,29 +265,80 @@ mod tests {
         (p, v)
     }
 
-    /// The simplicial substitution equals faer's own solve.
+    /// A 6 x 7 grid Laplacian (fill-in, a non-trivial AMD ordering and
+    /// supernodes wider than one column) with `shift` on the diagonal.
+    fn grid(shift: f64) -> (SparsePattern, Vec<f64>) {
+        let (nx, ny) = (6, 7);
+        let id = |i: usize, j: usize| i * ny + j;
+        let mut links = Vec::new();
+        for i in 0..nx {
+            for j in 0..ny {
+                if i + 1 < nx {
+                    links.push([Some(id(i, j)), Some(id(i + 1, j))]);
+                }
+                if j + 1 < ny {
+                    links.push([Some(id(i, j)), Some(id(i, j + 1))]);
+                }
+            }
+        }
+        let n = nx * ny;
+        let p = SparsePattern::from_elements(n, links.iter().map(|e| &e[..]));
+        let mut v = vec![0.0; p.nnz()];
+        for (k, [a, b]) in links.iter().enumerate() {
+            let (a, b) = (a.unwrap(), b.unwrap());
+            let w = 1.0 + 0.1 * (k % 5) as f64;
+            v[p.position(a, a).unwrap()] += w;
+            v[p.position(b, b).unwrap()] += w;
+            v[p.position(a, b).unwrap()] -= w;
+            v[p.position(b, a).unwrap()] -= w;
+        }
+        for i in 0..n {
+            v[p.position(i, i).unwrap()] += shift;
+        }
+        (p, v)
+    }
+
+    /// Both substitutions equal faer's own solve, for dense and sparse
+    /// right-hand sides.
     #[test]
-    fn simplicial_substitution_matches_faer() {
-        let n = 12;
-        let (p, v) = chain(n, 0.3);
-        let mut cache = FactorCache::new(&p, CholeskyLayout::Simplicial);
-        let TangentFactor::Cholesky { symbolic, values } = cache.factor(&p, &v).unwrap() else {
-            panic!("positive definite");
-        };
-        let b: Vec<f64> = (0..n).map(|i| (1.3 * i as f64).cos()).collect();
-        let mut ours = b.clone();
-        TangentFactor::Cholesky { symbolic: Arc::clone(&symbolic), values: values.clone() }
-            .solve_in_place(&mut ours);
-        let mut theirs = b;
-        let mut buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-        LltRef::new(&symbolic, &values).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut theirs, n, 1),
-            Par::Seq,
-            MemStack::new(&mut buf),
-        );
-        for (a, b) in ours.iter().zip(&theirs) {
-            assert!((a - b).abs() <= 1e-14 * b.abs().max(1.0), "{a} vs {b}");
+    fn substitutions_match_faer_on_a_grid() {
+        use faer::dyn_stack::{MemBuffer, MemStack};
+        use faer::sparse::linalg::cholesky::LltRef;
+        use faer::{Conj, MatMut};
+        let (p, v) = grid(0.05);
+        let n = p.n;
+        for layout in [CholeskyLayout::Simplicial, CholeskyLayout::Supernodal] {
+            let mut cache = FactorCache::new(&p, layout);
+            let f = cache.factor(&p, &v).unwrap();
+            let TangentFactor::Cholesky { symbolic, values } = &f else {
+                panic!("positive definite");
+            };
+            assert_eq!(
+                matches!(symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_)),
+                layout == CholeskyLayout::Supernodal
+            );
+            for rhs in 0..3 {
+                let b: Vec<f64> = (0..n)
+                    .map(|i| match rhs {
+                        2 => f64::from(u8::from(i == 17)),
+                        _ => (1.3 * (i + rhs) as f64).cos(),
+                    })
+                    .collect();
+                let mut ours = b.clone();
+                f.solve_in_place(&mut ours);
+                let mut theirs = b;
+                let mut buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+                LltRef::new(symbolic, values).solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut theirs, n, 1),
+                    Par::Seq,
+                    MemStack::new(&mut buf),
+                );
+                let scale = theirs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                for (a, b) in ours.iter().zip(&theirs) {
+                    assert!((a - b).abs() <= 1e-13 * scale, "{layout:?}: {a} vs {b}");
+                }
+            }
         }
     }
 
