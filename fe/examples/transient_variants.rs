@@ -8,7 +8,7 @@
 //! (to compare answers between solver versions).
 //!
 //! `cargo run -p ceilfarm-fe --example transient_variants -- [small|type-c|all]
-//!  [rigid|elastic|pinching4|all] [N_STEPS] [OUT_DIR|-] [auto|simplicial|supernodal]
+//!  [rigid|elastic|pinching4|all] [N_STEPS] [OUT_DIR|-] [supernodal|simplicial|auto]
 //!  [STALE_MAX_ITER]`
 //!
 //! With `OUT_DIR` every run's history is written there as
@@ -104,9 +104,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out_dir = args.get(4).filter(|d| *d != "-").map(PathBuf::from);
     let stale_max_iter: usize = args.get(6).map(|s| s.parse()).transpose()?.unwrap_or(0);
     let layout = match args.get(5).map(String::as_str) {
-        Some("auto") | None => CholeskyLayout::Auto,
+        Some("auto") => CholeskyLayout::Auto,
         Some("simplicial") => CholeskyLayout::Simplicial,
-        Some("supernodal") => CholeskyLayout::Supernodal,
+        Some("supernodal") | None => CholeskyLayout::Supernodal,
         Some(other) => {
             return Err(format!("layout {other:?}: expected auto, simplicial or supernodal").into())
         }

@@ -108,7 +108,7 @@ pub struct TransientOptions {
     pub max_halvings: u32,
     /// Run only the first this many steps (default: all).
     pub max_steps: Option<usize>,
-    /// Layout of the tangent's Cholesky factor (default: faer's choice).
+    /// Layout of the tangent's Cholesky factor (default supernodal).
     pub cholesky: CholeskyLayout,
 }
 
