@@ -16,11 +16,12 @@
 //! verification folder (`CEILFARM_SHARED`, else found above the crate).
 //!
 //! Measured on the shared 2-core machine (dev profile, CPU s, 4000 steps;
-//! factorizations in brackets), before -> after the own simplicial
-//! substitutions: 3.6 m x 3.6 m rigid 0.40 -> 0.23 (1), elastic 0.74 -> 0.43
-//! (1), Pinching4 1.99 -> 1.01 (893); type C rigid 9.5 -> 5.9 (94), elastic
-//! 20.9 -> 11.5 (122), Pinching4 80.4 -> 59.2 (4116). Histories agree to
-//! 1.4e-9 of each channel's peak. Pinching4 stays factorization-bound:
+//! factorizations in brackets), before -> after our own substitutions and
+//! the supernodal factor: 3.6 m x 3.6 m rigid 0.40 -> 0.22 (1), elastic
+//! 0.74 -> 0.43 (1), Pinching4 1.99 -> 1.03 (893); type C rigid 9.5 -> 4.9
+//! (94), elastic 20.9 -> 11.0 (122), Pinching4 80.4 -> 48.0 (4116).
+//! Histories agree to 1.4e-9 of each channel's peak. Pinching4 stays
+//! factorization-bound:
 //! hundreds of joints change branch, and so tangent, in every step.
 
 use std::path::{Path, PathBuf};
