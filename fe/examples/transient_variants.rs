@@ -21,8 +21,8 @@
 //! 0.74 -> 0.43 (1), Pinching4 1.99 -> 1.03 (893); type C rigid 9.5 -> 4.9
 //! (94), elastic 20.9 -> 11.0 (122), Pinching4 80.4 -> 48.0 (4116).
 //! Histories agree to 1.4e-9 of each channel's peak. Pinching4 stays
-//! factorization-bound:
-//! hundreds of joints change branch, and so tangent, in every step.
+//! factorization-bound: hundreds of joints change branch, and so tangent,
+//! in every step.
 
 use std::path::{Path, PathBuf};
 
