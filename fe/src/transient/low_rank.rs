@@ -12,7 +12,7 @@ use std::collections::HashMap;
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::eigen::factor::SparseFactor;
+use super::factor_cache::TangentFactor;
 
 /// Equations of a spring's two nodes in its DOF.
 pub type SpringEqs = [Option<usize>; 2];
@@ -29,6 +29,8 @@ pub struct LowRankUpdate {
     columns: HashMap<usize, Vec<f64>>,
     active: Vec<(usize, f64)>,
     capacitance: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+    /// Columns z_k solved so far (one solve with the base factor each).
+    pub column_solves: usize,
 }
 
 impl LowRankUpdate {
@@ -52,12 +54,16 @@ impl LowRankUpdate {
     /// Sets the correction to `changes`; `false` if the capacitance is singular.
     pub fn set(
         &mut self,
-        base: &SparseFactor,
+        base: &TangentFactor,
         eqs: &[SpringEqs],
         n: usize,
         changes: &[(usize, f64)],
     ) -> bool {
         for (k, _) in changes {
+            if self.columns.contains_key(k) {
+                continue;
+            }
+            self.column_solves += 1;
             self.columns.entry(*k).or_insert_with(|| {
                 let mut z = vec![0.0; n];
                 if let Some(e) = eqs[*k][1] {
@@ -135,7 +141,7 @@ mod tests {
             let n = 8;
             let (p, v0) = chain(n, 0.5);
             let springs: Vec<SpringEqs> = vec![[Some(0), Some(3)], [None, Some(5)], [Some(6), Some(7)]];
-            let base = SparseFactor::new(&p, &v0).unwrap();
+            let base = TangentFactor::General(crate::eigen::factor::SparseFactor::new(&p, &v0).unwrap());
             let changes: Vec<(usize, f64)> = deltas.iter().copied().enumerate().collect();
             let mut upd = LowRankUpdate::default();
             prop_assert!(upd.set(&base, &springs, n, &changes));

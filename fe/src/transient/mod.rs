@@ -11,10 +11,12 @@
 pub mod excitation;
 pub mod factor_cache;
 pub mod history;
+pub mod krylov;
 pub mod low_rank;
 pub mod newmark;
 pub mod newton;
 pub mod recorders;
+pub mod round_off;
 pub mod spec;
 pub mod springs;
 pub mod subdivision;
@@ -22,6 +24,7 @@ pub mod subdivision;
 use std::path::{Path, PathBuf};
 
 pub use excitation::{BaseMotion, GroundMotion};
+pub use factor_cache::CholeskyLayout;
 pub use history::{write_history, write_history_csv, History};
 pub use newton::{Kinematics, NewtonFailure, NewtonSettings};
 pub use spec::TransientSpec;
@@ -98,12 +101,15 @@ pub enum TransientError {
 pub struct TransientOptions {
     /// Folder that record CSV paths are relative to (the model file's folder).
     pub base_dir: PathBuf,
-    /// Newton settings (default: ‖Δu‖₂ < 1e-10 mm, 50 iterations).
+    /// Newton settings (default: ‖Δu‖₂ < 1e-10 mm or a round-off residual,
+    /// 50 iterations).
     pub newton: NewtonSettings,
     /// Step halvings allowed on failure (default 6: down to Δt/64).
     pub max_halvings: u32,
     /// Run only the first this many steps (default: all).
     pub max_steps: Option<usize>,
+    /// Layout of the tangent's Cholesky factor (default supernodal).
+    pub cholesky: CholeskyLayout,
 }
 
 impl TransientOptions {
@@ -114,6 +120,7 @@ impl TransientOptions {
             newton: NewtonSettings::default(),
             max_halvings: 6,
             max_steps: None,
+            cholesky: CholeskyLayout::default(),
         }
     }
 }
@@ -133,6 +140,12 @@ pub struct StepReport {
     pub substeps: usize,
     /// Factorizations so far.
     pub factorizations: usize,
+    /// Low-rank (Woodbury) corrections of a kept factorization so far.
+    pub low_rank_updates: usize,
+    /// Solves for low-rank correction columns so far.
+    pub column_solves: usize,
+    /// Krylov-accelerated iterations on a kept approximate tangent so far.
+    pub stale_iterations: usize,
 }
 
 /// Runs the model's transient analysis; `observer` hears every step.
@@ -193,7 +206,7 @@ pub fn run_plan(
     let n = s.dofs.n_free;
     let mut st =
         StepState { committed: Kinematics::zeros(n), trial: Kinematics::zeros(n), springs };
-    let mut sys = Dynamics::new(&s, alpha, beta);
+    let mut sys = Dynamics::new(&s, alpha, beta, opts.cholesky);
     let ctl = StepControl {
         gamma: plan.gamma,
         beta: plan.beta,
@@ -229,6 +242,9 @@ pub fn run_plan(
             iterations: cost.iterations,
             substeps: cost.substeps,
             factorizations: sys.factorizations,
+            low_rank_updates: sys.low_rank_updates,
+            column_solves: sys.column_solves(),
+            stale_iterations: sys.stale_iterations,
         });
     }
     Ok(hist)

@@ -1,18 +1,23 @@
 //! One Newmark step solved by Newton iterations on the sparse effective
 //! tangent K_eff = K_t + γ/(βΔt) C + 1/(βΔt²) M, converged when the 2-norm
 //! of the displacement increment over the free DOFs falls below a tolerance
-//! (OpenSees `test NormDispIncr`). The factorization is kept and reused while
-//! the step size and every spring tangent are unchanged.
+//! (OpenSees `test NormDispIncr`) or when the residual sits at its round-off
+//! floor ([`super::round_off`]). The factorization is kept and reused while
+//! the step size is unchanged: exactly, with a low-rank correction for up to
+//! 24 springs whose tangent changed ([`super::low_rank`]); beyond that it is
+//! refactorized, or optionally used as an approximate tangent with Krylov
+//! acceleration ([`super::krylov`], `NewtonSettings::stale_max_iter`).
 //!
 //! Equation of motion relative to the base: M ü + C u̇ + F_int(u) = −M r a_g.
 //! Units: N, mm, s, t.
 
-use super::factor_cache::FactorCache;
+use super::factor_cache::{CholeskyLayout, FactorCache, TangentFactor};
+use super::krylov::KrylovAccelerator;
 use super::low_rank::{LowRankUpdate, SpringEqs};
 use super::newmark::NewmarkConstants;
+use super::round_off::{at_round_off, residual_scale};
 use super::springs::{SpringFailure, SpringStates};
 use crate::assembly::Structure;
-use crate::eigen::factor::SparseFactor;
 
 /// Displacement, velocity and acceleration relative to the base (free DOFs).
 #[derive(Debug, Clone, PartialEq)]
@@ -32,19 +37,38 @@ impl Kinematics {
     }
 }
 
-/// Newton settings.
+/// Newton settings: converged when ‖Δu‖₂ < `tol_mm`, or when the residual
+/// the increment was solved from is at its round-off floor
+/// ([`super::round_off`]: every |R_e| ≤ `floor_factor` ε Σ|terms of R_e|)
+/// and ‖Δu‖₂ < `floor_tol_mm`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NewtonSettings {
     /// Converged when ‖Δu‖₂ < this (mm).
     pub tol_mm: f64,
     /// Iterations before giving up.
     pub max_iter: usize,
+    /// Multiple of ε Σ|terms| below which a residual is round-off.
+    pub floor_factor: f64,
+    /// Largest ‖Δu‖₂ accepted with a round-off residual (mm); the floor is
+    /// tested only once the previous increment was below it.
+    pub floor_tol_mm: f64,
+    /// Krylov-accelerated iterations allowed per step on a kept factor whose
+    /// tangent differs in more springs than the low-rank correction takes,
+    /// before refactorizing (0: refactorize at once).
+    pub stale_max_iter: usize,
 }
 
 impl Default for NewtonSettings {
-    /// The fixtures' settings: 1e-10 mm, 50 iterations.
+    /// The fixtures' settings: 1e-10 mm, 50 iterations; a round-off
+    /// residual (64 ε) with ‖Δu‖₂ < 1e-7 mm also converges.
     fn default() -> Self {
-        NewtonSettings { tol_mm: 1e-10, max_iter: 50 }
+        NewtonSettings {
+            tol_mm: 1e-10,
+            max_iter: 50,
+            floor_factor: 64.0,
+            floor_tol_mm: 1e-7,
+            stale_max_iter: 0,
+        }
     }
 }
 
@@ -93,6 +117,22 @@ impl std::fmt::Display for NewtonFailure {
 /// full refactorization.
 const MAX_RANK: usize = 24;
 
+/// An approximate-tangent iteration must shrink the increment by at least
+/// this factor, else the next iteration refactorizes.
+const STALE_MIN_CONTRACTION: f64 = 0.5;
+
+/// Most directions kept by the Krylov accelerator.
+const KRYLOV_MAX_DIM: usize = 8;
+
+/// The operator an iteration solved with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Operator {
+    /// The current tangent (factor plus exact low-rank correction).
+    Exact,
+    /// A kept factorization of an earlier tangent.
+    Stale,
+}
+
 /// The constant parts of the dynamic system and the factorization cache.
 pub struct Dynamics<'a> {
     s: &'a Structure,
@@ -103,19 +143,32 @@ pub struct Dynamics<'a> {
     base_dt_s: f64,
     base_eff: Vec<f64>,
     factored_tangents: Option<Vec<f64>>,
-    factor: Option<SparseFactor>,
+    factor: Option<TangentFactor>,
     cache: FactorCache,
     low_rank: LowRankUpdate,
     spring_eqs: Vec<SpringEqs>,
     changes: Vec<(usize, f64)>,
     /// Number of factorizations done.
     pub factorizations: usize,
+    /// Number of low-rank (Woodbury) corrections set up on a kept factor.
+    pub low_rank_updates: usize,
+    /// Number of Krylov-accelerated iterations on a kept approximate tangent.
+    pub stale_iterations: usize,
+    /// Changes whenever the factor or its correction changes.
+    operator_id: u64,
+    krylov: KrylovAccelerator,
     work: Vec<f64>,
 }
 
 impl<'a> Dynamics<'a> {
-    /// The system of a structure with Rayleigh coefficients α (1/s) and β (s).
-    pub fn new(s: &'a Structure, alpha_m_per_s: f64, beta_k_s: f64) -> Self {
+    /// The system of a structure with Rayleigh coefficients α (1/s) and β
+    /// (s), factorized with the given Cholesky layout.
+    pub fn new(
+        s: &'a Structure,
+        alpha_m_per_s: f64,
+        beta_k_s: f64,
+        layout: CholeskyLayout,
+    ) -> Self {
         let diag = s.diagonal_positions();
         let mut kr = s.beam_values.clone();
         let k0: Vec<f64> = s
@@ -137,11 +190,15 @@ impl<'a> Dynamics<'a> {
             base_eff: Vec::new(),
             factored_tangents: None,
             factor: None,
-            cache: FactorCache::new(&s.pattern),
+            cache: FactorCache::new(&s.pattern, layout),
             low_rank: LowRankUpdate::default(),
             spring_eqs: s.springs.iter().map(|sp| sp.eqs).collect(),
             changes: Vec::new(),
             factorizations: 0,
+            low_rank_updates: 0,
+            stale_iterations: 0,
+            operator_id: 0,
+            krylov: KrylovAccelerator::default(),
             work: vec![0.0; n],
         }
     }
@@ -151,12 +208,21 @@ impl<'a> Dynamics<'a> {
         self.s
     }
 
-    /// Makes sure the factor matches step `nm` and the current spring tangents.
-    fn ensure_factor(
+    /// Solves done for low-rank correction columns so far.
+    pub fn column_solves(&self) -> usize {
+        self.low_rank.column_solves
+    }
+
+    /// Chooses the operator of this iteration: the factor with an exact
+    /// low-rank correction for the current spring tangents (`Exact`), the
+    /// kept operator as an approximate tangent when `allow_stale` and too many
+    /// springs changed (`Stale`), or else a fresh factorization (`Exact`).
+    fn prepare_operator(
         &mut self,
         nm: &NewmarkConstants,
         tangents: &[f64],
-    ) -> Result<(), NewtonFailure> {
+        allow_stale: bool,
+    ) -> Result<Operator, NewtonFailure> {
         if self.base_dt_s != nm.dt_s {
             self.base_eff = self
                 .s
@@ -179,13 +245,18 @@ impl<'a> Dynamics<'a> {
                 }
             }
             if self.low_rank.is(&self.changes) {
-                return Ok(());
+                return Ok(Operator::Exact);
             }
             if self.changes.len() <= MAX_RANK {
                 let n = self.s.pattern.n;
+                self.operator_id += 1;
                 if self.low_rank.set(base, &self.spring_eqs, n, &self.changes) {
-                    return Ok(());
+                    self.low_rank_updates += 1;
+                    return Ok(Operator::Exact);
                 }
+            }
+            if allow_stale {
+                return Ok(Operator::Stale);
             }
         }
         let mut values = self.base_eff.clone();
@@ -197,8 +268,9 @@ impl<'a> Dynamics<'a> {
         self.factor = Some(f);
         self.factored_tangents = Some(tangents.to_vec());
         self.low_rank.reset();
+        self.operator_id += 1;
         self.factorizations += 1;
-        Ok(())
+        Ok(Operator::Exact)
     }
 
     /// Residual R = −Σ M r a_g − M a − C v − K_beam u − F_springs into `out`
@@ -244,7 +316,10 @@ impl<'a> Dynamics<'a> {
     ) -> Result<usize, NewtonFailure> {
         trial.u.clone_from(&committed.u);
         let mut r = vec![0.0; committed.u.len()];
+        let mut scale = vec![0.0; committed.u.len()];
         let mut last = f64::NAN;
+        let (mut stale_iters, mut allow_stale) = (0, settings.stale_max_iter > 0);
+        let mut krylov_operator = None;
         for it in 1..=settings.max_iter {
             springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
             nm.update_all(
@@ -256,18 +331,37 @@ impl<'a> Dynamics<'a> {
                 &mut trial.a,
             );
             self.residual(trial, springs, ext, &mut r);
-            self.ensure_factor(nm, &springs.tangent_n_mm)?;
+            let floor = last < settings.floor_tol_mm && {
+                residual_scale(self.s, &self.c_values, trial, springs, ext, &mut scale);
+                at_round_off(&r, &scale, settings.floor_factor)
+            };
+            let allow = allow_stale && stale_iters < settings.stale_max_iter;
+            let op = self.prepare_operator(nm, &springs.tangent_n_mm, allow)?;
             if let Some(f) = &self.factor {
                 f.solve_in_place(&mut r);
                 self.low_rank.correct(&self.spring_eqs, &mut r);
+            }
+            if op == Operator::Stale {
+                if krylov_operator != Some(self.operator_id) {
+                    self.krylov.reset();
+                    krylov_operator = Some(self.operator_id);
+                }
+                self.krylov.accelerate(&mut r, KRYLOV_MAX_DIM);
+                stale_iters += 1;
+                self.stale_iterations += 1;
+            } else {
+                krylov_operator = None;
             }
             let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
             if !norm.is_finite() {
                 return Err(NewtonFailure::NonFinite { iteration: it });
             }
+            if op == Operator::Stale && norm > STALE_MIN_CONTRACTION * last {
+                allow_stale = false;
+            }
             trial.u.iter_mut().zip(&r).for_each(|(u, d)| *u += d);
             last = norm;
-            if norm < settings.tol_mm {
+            if norm < settings.tol_mm || (floor && norm < settings.floor_tol_mm) {
                 springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
                 nm.update_all(
                     &trial.u,
