@@ -13,23 +13,18 @@ impl Biquad {
     ///
     /// `None` unless `0 < fc_hz < ` the Nyquist frequency.
     pub fn high_pass(fc_hz: f64, dt_s: f64) -> Option<Self> {
-        let nyquist = 0.5 / dt_s;
-        if !(fc_hz > 0.0 && fc_hz < nyquist && dt_s > 0.0) {
-            return None;
-        }
-        let w0 = 2.0 * std::f64::consts::PI * fc_hz * dt_s;
-        let (sin, cos) = w0.sin_cos();
-        let alpha = sin / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
-        let a0 = 1.0 + alpha;
-        let b = [(1.0 + cos) / 2.0 / a0, -(1.0 + cos) / a0, (1.0 + cos) / 2.0 / a0];
-        let a = [-2.0 * cos / a0, (1.0 - alpha) / a0];
-        Some(Self { b, a })
+        Self::butterworth(fc_hz, dt_s, |cos| [(1.0 + cos) / 2.0, -(1.0 + cos), (1.0 + cos) / 2.0])
     }
 
     /// Butterworth low-pass with corner `fc_hz` at sampling step `dt_s`.
     ///
     /// `None` unless `0 < fc_hz < ` the Nyquist frequency.
     pub fn low_pass(fc_hz: f64, dt_s: f64) -> Option<Self> {
+        Self::butterworth(fc_hz, dt_s, |cos| [(1.0 - cos) / 2.0, 1.0 - cos, (1.0 - cos) / 2.0])
+    }
+
+    /// A second-order section with Q = 1/√2 and numerator `b(cos ω0)`.
+    fn butterworth(fc_hz: f64, dt_s: f64, b: impl Fn(f64) -> [f64; 3]) -> Option<Self> {
         let nyquist = 0.5 / dt_s;
         if !(fc_hz > 0.0 && fc_hz < nyquist && dt_s > 0.0) {
             return None;
@@ -38,7 +33,7 @@ impl Biquad {
         let (sin, cos) = w0.sin_cos();
         let alpha = sin / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
         let a0 = 1.0 + alpha;
-        let b = [(1.0 - cos) / 2.0 / a0, (1.0 - cos) / a0, (1.0 - cos) / 2.0 / a0];
+        let b = b(cos).map(|v| v / a0);
         let a = [-2.0 * cos / a0, (1.0 - alpha) / a0];
         Some(Self { b, a })
     }
