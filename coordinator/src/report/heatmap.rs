@@ -107,7 +107,7 @@ fn extent(plot: &str, axis: &str, c: &[f64]) -> Result<(f64, f64), ReportError> 
     let step = (c[c.len() - 1] - c[0]) / (c.len() - 1) as f64;
     for i in 1..c.len() {
         let expected = c[0] + step * i as f64;
-        if !(c[i] > c[i - 1]) || (c[i] - expected).abs() > 1e-3 * step.abs() {
+        if c[i] <= c[i - 1] || (c[i] - expected).abs() > 1e-3 * step.abs() {
             return Err(bad(i, c[i], &format!("evenly spaced and increasing, about {expected}")));
         }
     }
@@ -169,7 +169,7 @@ fn reduce(z: &[Vec<f64>], ny: usize) -> (usize, usize, Vec<f64>) {
     for (ix, col) in z.iter().enumerate() {
         for (iy, &v) in col.iter().enumerate() {
             let cell = &mut out[(ix / bx) * ny_out + iy / by];
-            if v.is_finite() && !(cell.abs() >= v.abs()) {
+            if v.is_finite() && (cell.is_nan() || v.abs() > cell.abs()) {
                 *cell = v;
             }
         }
