@@ -35,10 +35,8 @@ fn run(effect: &str, seed: u64) -> (String, f64) {
     synth_to_dir(&spec, &bundle_dir, &answer, &mut |_| {}).unwrap();
     std::fs::remove_file(&answer).unwrap();
     let b = read_bundle(&bundle_dir).unwrap();
-    let opts = DiagnoseOptions {
-        budget: Budget { seed, ..Budget::default() },
-        ..Default::default()
-    };
+    let opts =
+        DiagnoseOptions { budget: Budget { seed, ..Budget::default() }, ..Default::default() };
     let d = diagnose(&b, &opts, &mut |_, _, _| {}).unwrap();
     for c in &d.candidates {
         eprintln!(

@@ -35,12 +35,20 @@ pub struct Args {
 /// Runs `diagnose`.
 pub fn run(a: Args) -> Result<()> {
     if a.transport != "in-process" {
-        bail!("--transport {}: diagnose runs its FE simulations in-process only (use --workers N)", a.transport);
+        bail!(
+            "--transport {}: diagnose runs its FE simulations in-process only (use --workers N)",
+            a.transport
+        );
     }
     if a.workers == 0 {
         bail!("--workers 0: expected at least 1");
     }
-    let budget = Budget { threads: a.workers, per_dim: a.points_per_parameter, seed: a.seed, ..Budget::default() };
+    let budget = Budget {
+        threads: a.workers,
+        per_dim: a.points_per_parameter,
+        seed: a.seed,
+        ..Budget::default()
+    };
     let path = diagnose_dir(&a.bundle, &a.out, &DiagnoseOptions { budget, ..Default::default() })?;
     println!("report: {}", path.display());
     Ok(())

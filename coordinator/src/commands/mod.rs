@@ -8,6 +8,6 @@ pub mod fe;
 pub mod gp;
 pub mod select;
 pub mod sobol;
-pub mod synth;
 pub mod sweep;
+pub mod synth;
 pub mod worker;

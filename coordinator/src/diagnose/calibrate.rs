@@ -188,20 +188,30 @@ pub fn calibrate(
     let design = draw(DesignMethod::MaximinLhs, n0, d, budget.seed);
     let embed = |x: &[f64]| -> Vec<f64> { base.unwrap_or(&[]).iter().chain(x).copied().collect() };
     let us: Vec<Vec<f64>> = (0..design.n()).map(|i| embed(design.row(i))).collect();
-    let mut cal = Calibration { cause, priors: priors.clone(), free, points: Vec::new(), demand, gauss_newton: None };
+    let mut cal = Calibration {
+        cause,
+        priors: priors.clone(),
+        free,
+        points: Vec::new(),
+        demand,
+        gauss_newton: None,
+    };
     for chunk in us.chunks(budget.threads.max(1) * 2) {
         cal.points.extend(evaluate_points(&ev, chunk, budget.threads));
         progress(cal.points.len(), planned);
     }
     for round in 0..budget.rounds {
         let Some(gp) = cal.emulator(n_eff) else { break };
-        let best = cal.best(n_eff).map(|k| cal.free.iter().map(|i| cal.points[k].u[*i]).collect::<Vec<_>>());
+        let best = cal
+            .best(n_eff)
+            .map(|k| cal.free.iter().map(|i| cal.points[k].u[*i]).collect::<Vec<_>>());
         let next = proposals(&gp, d, best.as_deref(), budget.per_round, budget.seed + round as u64);
         let next: Vec<Vec<f64>> = next.iter().map(|x| embed(x)).collect();
         cal.points.extend(evaluate_points(&ev, &next, budget.threads));
         progress(cal.points.len(), planned);
     }
-    cal.gauss_newton = levenberg_marquardt(&mut cal, &ev, n_eff, budget, &mut |done| progress(done, planned));
+    cal.gauss_newton =
+        levenberg_marquardt(&mut cal, &ev, n_eff, budget, &mut |done| progress(done, planned));
     cal
 }
 
@@ -239,14 +249,18 @@ fn levenberg_marquardt(
         let evals = evaluate_full(ev, &us, budget.threads);
         spent += evals.len();
         let Some(r0) = evals[0].1.clone() else { break };
-        let ssr: Vec<f64> = r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
+        let ssr: Vec<f64> =
+            r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
         let mut jt_r = DVector::zeros(k);
         let mut jt_j = DMatrix::zeros(k, k);
         let mut cols: Vec<Option<Residuals>> = Vec::with_capacity(k);
         for (i, (_, ri)) in evals[1..].iter().enumerate() {
             let step = us[i + 1][i] - u[i];
             cols.push(ri.as_ref().map(|ri| {
-                ri.iter().zip(&r0).map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect()).collect()
+                ri.iter()
+                    .zip(&r0)
+                    .map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect())
+                    .collect()
             }));
         }
         if cols.iter().any(Option::is_none) {
@@ -284,7 +298,11 @@ fn levenberg_marquardt(
             let Some(delta): Option<DVector<f64>> = a.cholesky().map(|c| c.solve(&(-&jt_r))) else {
                 break;
             };
-            let trial: Vec<f64> = u.iter().zip(delta.iter()).map(|(x, d): (&f64, &f64)| (x + d).clamp(0.0, 1.0)).collect();
+            let trial: Vec<f64> = u
+                .iter()
+                .zip(delta.iter())
+                .map(|(x, d): (&f64, &f64)| (x + d).clamp(0.0, 1.0))
+                .collect();
             let p = evaluate_points(ev, &[trial.clone()], 1).remove(0);
             spent += 1;
             let ft = p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff));

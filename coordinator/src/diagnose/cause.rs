@@ -99,16 +99,25 @@ const CONNECTION: [Prior; 2] = [
 const CJS_A_INITIAL_N_PER_MM: f64 = 300.0;
 
 /// The FE model parameters of an extension's calibrated ones under `demand`.
-pub fn model_parameters(prior: &Prior, value: f64, other: &[(&str, f64)], demand: &Demand) -> Vec<(&'static str, f64)> {
+pub fn model_parameters(
+    prior: &Prior,
+    value: f64,
+    other: &[(&str, f64)],
+    demand: &Demand,
+) -> Vec<(&'static str, f64)> {
     let floor = 1e-6;
     match prior.name {
         "gap_over_demand" => {
-            vec![("gap_ratio", (value * demand.perimeter_mm).max(floor) / demand.nominal_gap_mm.max(floor))]
+            vec![(
+                "gap_ratio",
+                (value * demand.perimeter_mm).max(floor) / demand.nominal_gap_mm.max(floor),
+            )]
         }
         "slip_over_demand" => vec![("friction_fy_N", (value * demand.perimeter_n).max(floor))],
         "yield_over_demand" => {
             let force = (value * demand.connection_n / CJS_A_FIRST_FORCE_N).max(floor);
-            let k = other.iter().find(|(n, _)| *n == "conn_stiffness_factor").map_or(1.0, |(_, v)| *v);
+            let k =
+                other.iter().find(|(n, _)| *n == "conn_stiffness_factor").map_or(1.0, |(_, v)| *v);
             let k_cc1 = fe::generator::param_info("K_cc1").map_or(800.0, |p| p.midpoint());
             let disp = force * CJS_A_INITIAL_N_PER_MM / (k * k_cc1);
             vec![("conn_force_scale", force), ("conn_disp_scale", disp)]

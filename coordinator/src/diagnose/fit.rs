@@ -61,15 +61,17 @@ pub struct Evaluation<'a> {
 
 impl Evaluation<'_> {
     /// The FE parameters and simulation options at `theta` (prior order).
-    pub fn setup(&self, theta: &[f64]) -> Result<(fe::generator::CeilingSpec, Parameters, SimOptions), String> {
+    pub fn setup(
+        &self,
+        theta: &[f64],
+    ) -> Result<(fe::generator::CeilingSpec, Parameters, SimOptions), String> {
         let spec = fe_spec(&self.bundle.manifest.structure, self.cause.model_options())
             .map_err(|e| e.to_string())?;
         let mut params = Parameters::prior_midpoints_for(&spec);
-        let mut opts = SimOptions {
-            rayleigh_groups: vec![PERIMETER_GROUP.into()],
-            ..SimOptions::default()
-        };
-        let named: Vec<(&str, f64)> = self.priors.iter().map(|p| p.name).zip(theta.iter().copied()).collect();
+        let mut opts =
+            SimOptions { rayleigh_groups: vec![PERIMETER_GROUP.into()], ..SimOptions::default() };
+        let named: Vec<(&str, f64)> =
+            self.priors.iter().map(|p| p.name).zip(theta.iter().copied()).collect();
         let demand = self.demand.unwrap_or(Demand {
             perimeter_mm: 1.0,
             perimeter_n: 1.0,

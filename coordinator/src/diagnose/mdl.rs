@@ -108,7 +108,15 @@ pub fn mdl(cal: &Calibration, gp: Option<&Gp>, n_eff: &[f64], held: (f64, f64)) 
         };
         (g + held.0, (se * se + held.1 * held.1).sqrt())
     };
-    Some(Mdl { fit, parametric, geometric, geometric_se, total: fit + parametric + geometric, k, n_eff: n })
+    Some(Mdl {
+        fit,
+        parametric,
+        geometric,
+        geometric_se,
+        total: fit + parametric + geometric,
+        k,
+        n_eff: n,
+    })
 }
 
 /// log ∫ √det(|H|/N) over the unit cube of the emulator's `k` inputs, and its se.
@@ -162,11 +170,15 @@ mod tests {
     /// constant Hessian H over the unit square is ½ log det(H/N).
     #[test]
     fn hessian_and_geometric_term_of_a_quadratic() {
-        let f = |u: &[f64]| 50.0 * (u[0] - 0.5).powi(2) + 20.0 * (u[1] - 0.3).powi(2) + 10.0 * u[0] * u[1];
+        let f = |u: &[f64]| {
+            50.0 * (u[0] - 0.5).powi(2) + 20.0 * (u[1] - 0.3).powi(2) + 10.0 * u[0] * u[1]
+        };
         let pts = draw(DesignMethod::MaximinLhs, 30, 2, 5);
         let y: Vec<f64> = (0..pts.n()).map(|i| f(pts.row(i))).collect();
         let scaling = InputScaling { lo: vec![0.0; 2], hi: vec![1.0; 2] };
-        let gp = fit(&pts.x, 2, &y, Some(scaling), &GpSettings { restarts: 2, ..Default::default() }).unwrap();
+        let gp =
+            fit(&pts.x, 2, &y, Some(scaling), &GpSettings { restarts: 2, ..Default::default() })
+                .unwrap();
         let h = gp_hessian(&gp, &[0.5, 0.5], 0.02).unwrap();
         for (got, want) in [(h[(0, 0)], 100.0), (h[(1, 1)], 40.0), (h[(0, 1)], 10.0)] {
             assert!((got - want).abs() < 0.05 * 100.0, "{got} vs {want}");

@@ -4,8 +4,8 @@
 //! Every kernel here works on plain sample slices (SI units, uniform step
 //! `dt_s`) so that measured and simulated runs are judged by the same code.
 
-pub mod cause;
 pub mod calibrate;
+pub mod cause;
 pub mod filter;
 pub mod fit;
 pub mod mdl;

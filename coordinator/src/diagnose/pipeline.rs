@@ -116,14 +116,26 @@ pub fn diagnose(
     let base_best = base.best(&n_eff0).ok_or("the baseline failed at every design point")?;
     let base_u = base.points[base_best].u.clone();
     let priors = Cause::None.priors();
-    let ev = Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs: &cal_runs, demand: None };
+    let ev = Evaluation {
+        bundle: b,
+        cause: Cause::None,
+        priors: &priors,
+        runs: &cal_runs,
+        demand: None,
+    };
     let demand = ev.demand_at(&base.theta(base_best))?;
     let mut cals: Vec<Calibration> = vec![base];
     for c in opts.candidates.iter().copied().filter(|c| *c != Cause::None) {
         let stage = format!("calibrating {}", c.as_str());
-        let cal = calibrate(b, c, &cal_runs, &n_eff0, &opts.budget, Some((&base_u, demand)), &mut |d, n| {
-            progress(&stage, d, n)
-        });
+        let cal = calibrate(
+            b,
+            c,
+            &cal_runs,
+            &n_eff0,
+            &opts.budget,
+            Some((&base_u, demand)),
+            &mut |d, n| progress(&stage, d, n),
+        );
         cals.push(cal);
     }
     let n_eff = match &cals[0].points[base_best].fit {

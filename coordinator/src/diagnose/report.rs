@@ -64,7 +64,8 @@ fn verdict_section(d: &Diagnosis) -> Section {
     if d.calibration_runs == d.validation_runs {
         blocks.push(Block::Note {
             kind: NoteKind::Warning,
-            text: "The bundle has a single usable split: validation reuses the calibration runs.".into(),
+            text: "The bundle has a single usable split: validation reuses the calibration runs."
+                .into(),
         });
     }
     Section { id: "verdict".into(), heading: "Verdict".into(), blocks }
@@ -98,14 +99,26 @@ fn specimen_section(b: &Bundle, telling: &[(usize, String)]) -> Section {
         blocks: vec![
             Block::KeyValues(vec![
                 ("plan".into(), format!("{} m × {} m", s.length_x_m, s.length_y_m)),
-                ("module / main-tee spacing".into(), format!("{} m / {} m", s.module_m, s.main_tee_spacing_m)),
-                ("hangers".into(), format!("{} m long every {} m", s.hanger_length_m, s.hanger_spacing_m)),
+                (
+                    "module / main-tee spacing".into(),
+                    format!("{} m / {} m", s.module_m, s.main_tee_spacing_m),
+                ),
+                (
+                    "hangers".into(),
+                    format!("{} m long every {} m", s.hanger_length_m, s.hanger_spacing_m),
+                ),
                 ("panel mass".into(), format!("{} kg", s.panel_mass_kg)),
-                ("perimeter".into(), match s.nominal_gap_mm {
-                    Some(g) => format!("{}, nominal gap {g} mm", s.boundary.as_str()),
-                    None => s.boundary.as_str().to_string(),
-                }),
-                ("runs".into(), b.manifest.runs.iter().map(|r| r.id.clone()).collect::<Vec<_>>().join(", ")),
+                (
+                    "perimeter".into(),
+                    match s.nominal_gap_mm {
+                        Some(g) => format!("{}, nominal gap {g} mm", s.boundary.as_str()),
+                        None => s.boundary.as_str().to_string(),
+                    },
+                ),
+                (
+                    "runs".into(),
+                    b.manifest.runs.iter().map(|r| r.id.clone()).collect::<Vec<_>>().join(", "),
+                ),
             ]),
             Block::figure("Plan with the sensors; highlighted: the sensors shown below.", plan),
         ],
@@ -144,8 +157,14 @@ fn comparison_section(d: &Diagnosis) -> Section {
         y_label: "mean normalised RMS error (-)".into(),
         categories: d.candidates.iter().map(|c| c.cause.as_str().into()).collect(),
         groups: vec![
-            BarGroup { name: "calibration runs".into(), values: d.candidates.iter().map(|c| c.calibration_error).collect() },
-            BarGroup { name: "validation runs".into(), values: d.candidates.iter().map(|c| c.validation_error).collect() },
+            BarGroup {
+                name: "calibration runs".into(),
+                values: d.candidates.iter().map(|c| c.calibration_error).collect(),
+            },
+            BarGroup {
+                name: "validation runs".into(),
+                values: d.candidates.iter().map(|c| c.validation_error).collect(),
+            },
         ],
         highlight,
         size: PlotSize::default(),
@@ -155,14 +174,30 @@ fn comparison_section(d: &Diagnosis) -> Section {
         heading: "Model comparison (MDL)".into(),
         blocks: vec![
             Block::Table(Table {
-                caption: "MDL = −log f(x|θ̂) + k/2 log(N/2π) + log ∫√det I(θ) dθ (nats); lowest wins.".into(),
-                header: ["model", "k", "−log f", "k/2 log(N/2π)", "geometric", "MDL", "ΔMDL", "cal. error", "val. error", "FE points"]
-                    .map(String::from)
-                    .to_vec(),
+                caption:
+                    "MDL = −log f(x|θ̂) + k/2 log(N/2π) + log ∫√det I(θ) dθ (nats); lowest wins."
+                        .into(),
+                header: [
+                    "model",
+                    "k",
+                    "−log f",
+                    "k/2 log(N/2π)",
+                    "geometric",
+                    "MDL",
+                    "ΔMDL",
+                    "cal. error",
+                    "val. error",
+                    "FE points",
+                ]
+                .map(String::from)
+                .to_vec(),
                 rows,
                 highlight_row: highlight,
             }),
-            Block::figure("Errors of each calibrated model on the calibration and validation runs.", chart),
+            Block::figure(
+                "Errors of each calibrated model on the calibration and validation runs.",
+                chart,
+            ),
         ],
     }
 }
@@ -173,7 +208,12 @@ fn parameters_section(d: &Diagnosis) -> Section {
         .estimates
         .iter()
         .map(|e| {
-            vec![e.name.clone(), e.unit.clone(), format!("{:.4}", e.value), format!("{:.4} – {:.4}", e.interval.0, e.interval.1)]
+            vec![
+                e.name.clone(),
+                e.unit.clone(),
+                format!("{:.4}", e.value),
+                format!("{:.4} – {:.4}", e.interval.0, e.interval.1),
+            ]
         })
         .collect();
     Section {
@@ -197,13 +237,16 @@ fn telling_channels(b: &Bundle, d: &Diagnosis) -> Vec<(usize, String)> {
     let mut out = Vec::new();
     for (k, &run) in d.validation_runs.iter().enumerate() {
         let data = &b.runs[run];
-        let (Some(sb), Some(sc)) = (base.validation_sims.get(k), chosen.validation_sims.get(k)) else {
+        let (Some(sb), Some(sc)) = (base.validation_sims.get(k), chosen.validation_sims.get(k))
+        else {
             continue;
         };
         for kind in [SensorKind::Acceleration, SensorKind::Displacement] {
             let mut best: Option<(f64, String)> = None;
             for ((id, xb), (_, xc)) in sb.iter().zip(sc) {
-                let Some(sensor) = b.manifest.sensors.iter().find(|s| &s.id == id) else { continue };
+                let Some(sensor) = b.manifest.sensors.iter().find(|s| &s.id == id) else {
+                    continue;
+                };
                 let shaken = match sensor.direction {
                     crate::bundle::Direction::X => data.input_x_m_s2.is_some(),
                     crate::bundle::Direction::Y => data.input_y_m_s2.is_some(),
@@ -245,18 +288,38 @@ fn histories_section(b: &Bundle, d: &Diagnosis, telling: &[(usize, String)]) -> 
         };
         let off = pre_event_offset(meas, data.dt_s);
         let t: Vec<f64> = (0..meas.len()).map(|i| data.t0_s + i as f64 * data.dt_s).collect();
-        let pick = |sims: &[Simulated]| sims.get(k).and_then(|s| s.iter().find(|(s, _)| s == id)).map(|(_, v)| v.clone());
-        let mut series = vec![Series { name: "measured".into(), x: t.clone(), y: meas.iter().map(|v| v - off).collect(), style: SeriesStyle::Solid }];
+        let pick = |sims: &[Simulated]| {
+            sims.get(k).and_then(|s| s.iter().find(|(s, _)| s == id)).map(|(_, v)| v.clone())
+        };
+        let mut series = vec![Series {
+            name: "measured".into(),
+            x: t.clone(),
+            y: meas.iter().map(|v| v - off).collect(),
+            style: SeriesStyle::Solid,
+        }];
         if let Some(v) = pick(&base.validation_sims) {
-            series.push(Series { name: "baseline".into(), x: t.clone(), y: v, style: SeriesStyle::Dashed });
+            series.push(Series {
+                name: "baseline".into(),
+                x: t.clone(),
+                y: v,
+                style: SeriesStyle::Dashed,
+            });
         }
         if chosen.cause != base.cause {
             if let Some(v) = pick(&chosen.validation_sims) {
-                series.push(Series { name: format!("extended ({})", chosen.cause.as_str()), x: t.clone(), y: v, style: SeriesStyle::Solid });
+                series.push(Series {
+                    name: format!("extended ({})", chosen.cause.as_str()),
+                    x: t.clone(),
+                    y: v,
+                    style: SeriesStyle::Solid,
+                });
             }
         }
         let peaks = |y: &[f64]| half_cycle_peaks(y).into_iter().fold(0.0f64, f64::max);
-        let stats: Vec<String> = series.iter().map(|s| format!("{} peak {:.3}, RMS {:.3}", s.name, peaks(&s.y), rms(&s.y))).collect();
+        let stats: Vec<String> = series
+            .iter()
+            .map(|s| format!("{} peak {:.3}, RMS {:.3}", s.name, peaks(&s.y), rms(&s.y)))
+            .collect();
         let series_copy = series.clone();
         let plot = line_plot(&LinePlot {
             title: format!("run {}, sensor {id}", data.id),
@@ -267,27 +330,57 @@ fn histories_section(b: &Bundle, d: &Diagnosis, telling: &[(usize, String)]) -> 
             log_y: false,
             size: PlotSize::default(),
         });
-        blocks.push(Block::figure(&format!("Validation run {}, sensor {id}: measured vs models.", data.id), plot));
-        if let Some(zoom) = zoomed(&series_copy, data.dt_s, &format!("run {}, sensor {id}, around the measured peak", data.id), unit) {
-            blocks.push(Block::figure(&format!("The same, 3 s around the measured peak of {id}."), zoom));
+        blocks.push(Block::figure(
+            &format!("Validation run {}, sensor {id}: measured vs models.", data.id),
+            plot,
+        ));
+        if let Some(zoom) = zoomed(
+            &series_copy,
+            data.dt_s,
+            &format!("run {}, sensor {id}, around the measured peak", data.id),
+            unit,
+        ) {
+            blocks.push(Block::figure(
+                &format!("The same, 3 s around the measured peak of {id}."),
+                zoom,
+            ));
         }
         blocks.push(Block::Paragraph(stats.join("; ")));
     }
     if blocks.is_empty() {
-        blocks.push(Block::Note { kind: NoteKind::Info, text: "No validation histories to show.".into() });
+        blocks.push(Block::Note {
+            kind: NoteKind::Info,
+            text: "No validation histories to show.".into(),
+        });
     }
-    Section { id: "histories".into(), heading: "Time histories at the telling sensors".into(), blocks }
+    Section {
+        id: "histories".into(),
+        heading: "Time histories at the telling sensors".into(),
+        blocks,
+    }
 }
 
 /// The series cut to 3 s around the first series' largest |value|.
-fn zoomed(series: &[Series], dt_s: f64, title: &str, unit: &str) -> Option<Result<String, crate::report::ReportError>> {
+fn zoomed(
+    series: &[Series],
+    dt_s: f64,
+    title: &str,
+    unit: &str,
+) -> Option<Result<String, crate::report::ReportError>> {
     let first = series.first()?;
-    let k = (0..first.y.len()).filter(|i| first.y[*i].is_finite()).max_by(|a, b| first.y[*a].abs().total_cmp(&first.y[*b].abs()))?;
+    let k = (0..first.y.len())
+        .filter(|i| first.y[*i].is_finite())
+        .max_by(|a, b| first.y[*a].abs().total_cmp(&first.y[*b].abs()))?;
     let half = (1.5 / dt_s) as usize;
     let (lo, hi) = (k.saturating_sub(half), (k + half).min(first.y.len()));
     let cut: Vec<Series> = series
         .iter()
-        .map(|s| Series { name: s.name.clone(), x: s.x[lo..hi].to_vec(), y: s.y[lo..hi].to_vec(), style: s.style })
+        .map(|s| Series {
+            name: s.name.clone(),
+            x: s.x[lo..hi].to_vec(),
+            y: s.y[lo..hi].to_vec(),
+            style: s.style,
+        })
         .collect();
     Some(line_plot(&LinePlot {
         title: title.into(),

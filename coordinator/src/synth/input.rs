@@ -22,7 +22,11 @@ pub struct InputError {
 }
 
 /// The input samples of a run (m/s²) and their step (s).
-pub fn build_input(run: &SynthRun, seed: u64, base_dir: &Path) -> Result<(Vec<f64>, f64), InputError> {
+pub fn build_input(
+    run: &SynthRun,
+    seed: u64,
+    base_dir: &Path,
+) -> Result<(Vec<f64>, f64), InputError> {
     let err = |message: String| InputError { run: run.id.clone(), message };
     let dt = 1.0 / run.sample_rate_hz;
     let (mut a, dt) = match run.excitation {
@@ -68,7 +72,11 @@ fn white_noise(run: &SynthRun, seed: u64, dt: f64) -> Result<Vec<f64>, String> {
         .map(|(k, v)| {
             let t = k as f64 * dt;
             let edge = t.min(run.duration_s - t).max(0.0);
-            let w = if edge >= ramp { 1.0 } else { 0.5 * (1.0 - (std::f64::consts::PI * edge / ramp).cos()) };
+            let w = if edge >= ramp {
+                1.0
+            } else {
+                0.5 * (1.0 - (std::f64::consts::PI * edge / ramp).cos())
+            };
             v * w
         })
         .collect())
@@ -91,7 +99,13 @@ fn read_record(path: &Path) -> Result<(Vec<f64>, f64), String> {
                 t.push(ti);
                 a.push(ai);
             }
-            _ => return Err(format!("{}:{}: expected `t,a` numbers, found {line:?}", path.display(), n + 1)),
+            _ => {
+                return Err(format!(
+                    "{}:{}: expected `t,a` numbers, found {line:?}",
+                    path.display(),
+                    n + 1
+                ))
+            }
         }
     }
     if t.len() < 2 {
@@ -100,7 +114,12 @@ fn read_record(path: &Path) -> Result<(Vec<f64>, f64), String> {
     let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
     for (k, w) in t.windows(2).enumerate() {
         if ((w[1] - w[0]) - dt).abs() > 1e-6 * dt {
-            return Err(format!("{}: row {}: time step {} s, expected uniform {dt} s", path.display(), k + 3, w[1] - w[0]));
+            return Err(format!(
+                "{}: row {}: time step {} s, expected uniform {dt} s",
+                path.display(),
+                k + 3,
+                w[1] - w[0]
+            ));
         }
     }
     Ok((a, dt))

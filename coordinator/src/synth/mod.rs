@@ -28,8 +28,8 @@ use spec::{Shaking, Strength, SynthSpec};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-pub use crate::diagnose::fit::{CONNECTION_GROUP, PERIMETER_GROUP};
 use crate::diagnose::cause::CJS_A_FIRST_FORCE_N;
+pub use crate::diagnose::fit::{CONNECTION_GROUP, PERIMETER_GROUP};
 
 /// The truth behind a synthetic bundle (`answer.json`).
 #[derive(Debug, Clone, Serialize)]
@@ -122,7 +122,8 @@ pub fn synthesize(
             message: e.to_string(),
         })?;
     }
-    let (runs, freq_hz) = simulate_runs(spec, &truth_spec, &params, &inputs, &base_inputs, observer)?;
+    let (runs, freq_hz) =
+        simulate_runs(spec, &truth_spec, &params, &inputs, &base_inputs, observer)?;
     let bundle = assemble(spec, runs, modal(spec, &freq_hz));
     let answer = Answer {
         format: "ceiling-synth-answer/1".into(),
@@ -144,7 +145,11 @@ fn base_input(dir: Shaking, a: &[f64], dt_s: f64) -> BaseInput {
 }
 
 /// Mid-points of the variant's priors overridden by `truth.parameters`.
-fn truth_parameters(spec: &SynthSpec, fe: &CeilingSpec, cause: Cause) -> Result<Parameters, SynthError> {
+fn truth_parameters(
+    spec: &SynthSpec,
+    fe: &CeilingSpec,
+    cause: Cause,
+) -> Result<Parameters, SynthError> {
     let mut p = Parameters::prior_midpoints_for(fe);
     for (name, v) in &spec.truth.parameters {
         if cause.model_parameter_names().contains(&name.as_str()) {
@@ -315,10 +320,15 @@ pub fn synth_to_dir(
     let base = spec_path.parent().unwrap_or(Path::new("."));
     let (bundle, ans) = synthesize(&spec, base, observer)?;
     if answer.starts_with(out) {
-        anyhow::bail!("--answer {}: must lie outside the bundle directory {}", answer.display(), out.display());
+        anyhow::bail!(
+            "--answer {}: must lie outside the bundle directory {}",
+            answer.display(),
+            out.display()
+        );
     }
     bundle::write_bundle(&bundle, out)?;
-    bundle::read_bundle(out).map_err(|e| anyhow::anyhow!("the written bundle does not read back: {e}"))?;
+    bundle::read_bundle(out)
+        .map_err(|e| anyhow::anyhow!("the written bundle does not read back: {e}"))?;
     std::fs::write(answer, serde_json::to_string_pretty(&ans)?)?;
     Ok(ans)
 }

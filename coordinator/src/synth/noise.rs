@@ -13,7 +13,8 @@ pub fn degrade<R: Rng>(values: &mut [f64], kind: SensorKind, noise: &Noise, rng:
         SensorKind::Acceleration => (noise.accel_rms_m_s2, noise.accel_offset_m_s2),
         SensorKind::Displacement => (noise.disp_rms_mm, noise.disp_offset_mm),
     };
-    let bias = if offset > 0.0 { Normal::new(0.0, offset).map_or(0.0, |d| d.sample(rng)) } else { 0.0 };
+    let bias =
+        if offset > 0.0 { Normal::new(0.0, offset).map_or(0.0, |d| d.sample(rng)) } else { 0.0 };
     let white = Normal::new(0.0, rms.max(0.0)).ok();
     for v in values.iter_mut() {
         *v += bias + white.as_ref().map_or(0.0, |d| d.sample(rng));

@@ -108,17 +108,25 @@ fn bad_campaigns_are_refused_with_the_key() {
     let tmp = tempfile::tempdir().unwrap();
     let cases = [
         (format!("{SPEC}\n[hidden]\neffect = \"ghosts\"\n"), "hidden.effect"),
-        (SPEC.replace("duration_s = 4.0\nsample_rate_hz", "duration_s = -1.0\nsample_rate_hz"), "runs.sw.duration_s"),
-        (SPEC.replace("missing_fraction = 0.01", "missing_fraction = 0.9"), "noise.missing_fraction"),
+        (
+            SPEC.replace("duration_s = 4.0\nsample_rate_hz", "duration_s = -1.0\nsample_rate_hz"),
+            "runs.sw.duration_s",
+        ),
+        (
+            SPEC.replace("missing_fraction = 0.01", "missing_fraction = 0.9"),
+            "noise.missing_fraction",
+        ),
         (SPEC.replace("seed = 3", "seed = 3\ncolour = 1"), "unknown field"),
     ];
     for (text, key) in cases {
         let spec = write(tmp.path(), &text);
         let e = match SynthSpec::from_file(&spec) {
             Err(e) => e.to_string(),
-            Ok(_) => synth_to_dir(&spec, &tmp.path().join("b"), &tmp.path().join("a.json"), &mut |_| {})
-                .unwrap_err()
-                .to_string(),
+            Ok(_) => {
+                synth_to_dir(&spec, &tmp.path().join("b"), &tmp.path().join("a.json"), &mut |_| {})
+                    .unwrap_err()
+                    .to_string()
+            }
         };
         assert!(e.contains(key), "{key}: {e}");
     }
