@@ -176,16 +176,23 @@ fn survives_coordinator_kill(transport: &str) {
     let ep = endpoint(transport);
     let _workers = Workers::start(transport, &ep, 2);
     let store = dir.path().join("t.db");
+    let log_path = dir.path().join("coordinator.log");
+    let log = std::fs::File::create(&log_path).unwrap();
     let mut coord = Command::new(bin())
         .args(run_args(s(&study), s(&store), transport, &ep))
-        .stderr(Stdio::null())
+        .arg("-v")
+        .stderr(Stdio::from(log))
         .spawn()
         .unwrap();
     wait_for(&store, 15, Duration::from_secs(60));
     coord.kill().unwrap();
     coord.wait().unwrap();
     let done = committed(&store);
-    assert!(done > 0 && done < 60, "kill landed outside the sweep ({done} done)");
+    assert!(
+        done > 0 && done < 60,
+        "kill landed outside the sweep ({done} done); coordinator log:\n{}",
+        std::fs::read_to_string(&log_path).unwrap_or_default()
+    );
     let mut args = run_args(s(&study), s(&store), transport, &ep);
     args.push("--resume");
     ceilfarm_ok(&args);
