@@ -2,14 +2,13 @@
 //! the seed's sine sweep, band-limited Gaussian white noise (1 s cosine
 //! ramps), or a record file; scaled to the run's peak acceleration.
 
-use super::spec::{Excitation, SynthRun};
+use super::spec::{Excitation, Shaking, SynthRun};
 use crate::diagnose::filter::Biquad;
 use fe::ceiling::{sine_sweep, SineSweep};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use std::path::Path;
-
-const G: f64 = 9.80665;
+use worker::ceiling::excitation::{self, Columns, G_M_S2 as G};
 
 /// Why an input could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -82,45 +81,12 @@ fn white_noise(run: &SynthRun, seed: u64, dt: f64) -> Result<Vec<f64>, String> {
         .collect())
 }
 
-/// A record CSV: a header line, then `t,a` rows on a uniform step.
+/// A record CSV: a header line, then `t,a` rows on a uniform step (the
+/// `ceiling` worker's record reader, acceleration in the second column).
 fn read_record(path: &Path) -> Result<(Vec<f64>, f64), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut t = Vec::new();
-    let mut a = Vec::new();
-    for (n, line) in text.lines().enumerate().skip(1) {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let num = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite());
-        match (f.len(), f.first().and_then(|s| num(s)), f.get(1).and_then(|s| num(s))) {
-            (2, Some(ti), Some(ai)) => {
-                t.push(ti);
-                a.push(ai);
-            }
-            _ => {
-                return Err(format!(
-                    "{}:{}: expected `t,a` numbers, found {line:?}",
-                    path.display(),
-                    n + 1
-                ))
-            }
-        }
-    }
-    if t.len() < 2 {
-        return Err(format!("{}: fewer than 2 samples", path.display()));
-    }
-    let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
-    for (k, w) in t.windows(2).enumerate() {
-        if ((w[1] - w[0]) - dt).abs() > 1e-6 * dt {
-            return Err(format!(
-                "{}: row {}: time step {} s, expected uniform {dt} s",
-                path.display(),
-                k + 3,
-                w[1] - w[0]
-            ));
-        }
-    }
-    Ok((a, dt))
+    let cols = Columns { direction: Shaking::X, x: &None, y: &None };
+    let (dt_s, a, _) = excitation::read_record(&text, &cols)
+        .map_err(|e| format!("{}: {}", path.display(), e.message))?;
+    Ok((a, dt_s))
 }

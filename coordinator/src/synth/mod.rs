@@ -27,6 +27,7 @@ use serde::Serialize;
 use spec::{Shaking, Strength, SynthSpec};
 use std::collections::BTreeMap;
 use std::path::Path;
+use worker::ceiling::excitation::split;
 
 use crate::diagnose::cause::CJS_A_FIRST_FORCE_N;
 pub use crate::diagnose::fit::{CONNECTION_GROUP, PERIMETER_GROUP};
@@ -102,8 +103,12 @@ pub fn synthesize(
         .enumerate()
         .map(|(k, r)| input::build_input(r, spec.seed.wrapping_add(1000 + k as u64), base_dir))
         .collect::<Result<Vec<_>, _>>()?;
-    let base_inputs: Vec<BaseInput> =
-        spec.runs.iter().zip(&inputs).map(|(r, (a, dt))| base_input(r.direction, a, *dt)).collect();
+    let base_inputs: Vec<BaseInput> = spec
+        .runs
+        .iter()
+        .zip(&inputs)
+        .map(|(r, (a, dt))| split(r.direction, *dt, a.clone(), a.clone()))
+        .collect();
     let baseline = fe_spec(&spec.structure, Cause::None.model_options())?;
     let mut demand = None;
     let needs_demand =
@@ -136,12 +141,6 @@ pub fn synthesize(
         seed: spec.seed,
     };
     Ok((bundle, answer))
-}
-
-fn base_input(dir: Shaking, a: &[f64], dt_s: f64) -> BaseInput {
-    let x = matches!(dir, Shaking::X | Shaking::Xy).then(|| a.to_vec());
-    let y = matches!(dir, Shaking::Y | Shaking::Xy).then(|| a.to_vec());
-    BaseInput { dt_s, x_m_s2: x, y_m_s2: y }
 }
 
 /// Mid-points of the variant's priors overridden by `truth.parameters`.

@@ -48,21 +48,12 @@ pub enum Excitation {
     SineSweep,
     /// Gaussian white noise, band-limited.
     WhiteNoise,
-    /// A record file `t,a` (units `record_units`).
+    /// A record file: header, then `t,a` rows (units `record_units`).
     Record,
 }
 
-/// Shaking direction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Shaking {
-    /// Along x.
-    X,
-    /// Along y.
-    Y,
-    /// The same input in x and y.
-    Xy,
-}
+/// Shaking direction (x, y or the same input in both).
+pub use worker::ceiling::excitation::Shaking;
 
 /// One run to simulate.
 #[derive(Debug, Clone, Deserialize)]

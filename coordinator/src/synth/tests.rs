@@ -131,3 +131,25 @@ fn bad_campaigns_are_refused_with_the_key() {
         assert!(e.contains(key), "{key}: {e}");
     }
 }
+
+#[test]
+fn a_record_run_reads_its_file_in_its_units() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("rec.csv"), "t,a\n0,0\n0.01,0.1\n0.02,-0.2\n0.03,0\n").unwrap();
+    let text = SPEC.replace(
+        "[[runs]]\nid = \"wn\"",
+        "[[runs]]\nid = \"rec\"\nexcitation = \"record\"\ndirection = \"y\"\nrecord = \"rec.csv\"\n\n[[runs]]\nid = \"wn\"",
+    );
+    let spec = write(tmp.path(), &text);
+    let out = tmp.path().join("bundle");
+    synth_to_dir(&spec, &out, &tmp.path().join("a.json"), &mut |_| {}).unwrap();
+    let b = read_bundle(&out).unwrap();
+    let rec = &b.runs[0];
+    assert_eq!(rec.dt_s, 0.01);
+    assert!(rec.input_x_m_s2.is_none());
+    let y = rec.input_y_m_s2.as_ref().unwrap();
+    let g = 9.80665;
+    for (got, want) in y.iter().zip([0.0, 0.1 * g, -0.2 * g, 0.0]) {
+        assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+    }
+}

@@ -234,7 +234,7 @@ fn positive(key: &str, v: f64) -> Result<(), ExcitationError> {
 }
 
 /// Keeps the components that `direction` names.
-fn split(direction: Shaking, dt_s: f64, x: Vec<f64>, y: Vec<f64>) -> BaseInput {
+pub fn split(direction: Shaking, dt_s: f64, x: Vec<f64>, y: Vec<f64>) -> BaseInput {
     let (x, y) = match direction {
         Shaking::X => (Some(x), None),
         Shaking::Y => (None, Some(y)),
@@ -243,15 +243,20 @@ fn split(direction: Shaking, dt_s: f64, x: Vec<f64>, y: Vec<f64>) -> BaseInput {
     BaseInput { dt_s, x_m_s2: x, y_m_s2: y }
 }
 
-struct Columns<'a> {
-    direction: Shaking,
-    x: &'a Option<String>,
-    y: &'a Option<String>,
+/// Which columns of a record hold the components (default: x the 2nd, y
+/// the 2nd alone or the 3rd under `xy`).
+pub struct Columns<'a> {
+    /// Components to read.
+    pub direction: Shaking,
+    /// Name of the x column, if not the default.
+    pub x: &'a Option<String>,
+    /// Name of the y column, if not the default.
+    pub y: &'a Option<String>,
 }
 
 /// Parses a record: (dt_s, x column, y column) in file units; a component
 /// the direction does not use comes back empty.
-fn read_record(
+pub fn read_record(
     text: &str,
     cols: &Columns<'_>,
 ) -> Result<(f64, Vec<f64>, Vec<f64>), ExcitationError> {
