@@ -87,3 +87,21 @@ impl SparsePattern {
         }
     }
 }
+
+#[cfg(test)]
+impl SparsePattern {
+    /// Test matrix: tridiag(−1, 2 + s, −1) on n equations, with its pattern.
+    pub(crate) fn chain(n: usize, s: f64) -> (SparsePattern, Vec<f64>) {
+        let eqs: Vec<[Option<usize>; 2]> = (0..n - 1).map(|i| [Some(i), Some(i + 1)]).collect();
+        let p = SparsePattern::from_elements(n, eqs.iter().map(|e| &e[..]));
+        let mut v = vec![0.0; p.nnz()];
+        for i in 0..n {
+            v[p.position(i, i).unwrap()] = 2.0 + s;
+            if i + 1 < n {
+                v[p.position(i, i + 1).unwrap()] = -1.0;
+                v[p.position(i + 1, i).unwrap()] = -1.0;
+            }
+        }
+        (p, v)
+    }
+}

@@ -249,20 +249,6 @@ impl FactorCache {
 mod tests {
     use super::*;
 
-    /// tridiag(-1, 2 + s, -1) on n equations.
-    fn chain(n: usize, s: f64) -> (SparsePattern, Vec<f64>) {
-        let eqs: Vec<[Option<usize>; 2]> = (0..n - 1).map(|i| [Some(i), Some(i + 1)]).collect();
-        let p = SparsePattern::from_elements(n, eqs.iter().map(|e| &e[..]));
-        let mut v = vec![0.0; p.nnz()];
-        for i in 0..n {
-            v[p.position(i, i).unwrap()] = 2.0 + s;
-            if i + 1 < n {
-                v[p.position(i, i + 1).unwrap()] = -1.0;
-                v[p.position(i + 1, i).unwrap()] = -1.0;
-            }
-        }
-        (p, v)
-    }
 
     /// A 6 x 7 grid Laplacian (fill-in, a non-trivial AMD ordering and
     /// supernodes wider than one column) with `shift` on the diagonal.
@@ -348,7 +334,7 @@ mod tests {
         for layout in [CholeskyLayout::Auto, CholeskyLayout::Simplicial, CholeskyLayout::Supernodal]
         {
             for s in [0.5, -3.0] {
-                let (p, v) = chain(n, s);
+                let (p, v) = SparsePattern::chain(n, s);
                 let mut cache = FactorCache::new(&p, layout);
                 let f = cache.factor(&p, &v).unwrap();
                 assert_eq!(matches!(f, TangentFactor::Cholesky { .. }), s > 0.0);

@@ -118,20 +118,6 @@ mod tests {
     use crate::assembly::SparsePattern;
     use proptest::prelude::*;
 
-    /// A chain of n equations: K = tridiag(-1, 2 + s, -1) plus springs.
-    fn chain(n: usize, s: f64) -> (SparsePattern, Vec<f64>) {
-        let eqs: Vec<[Option<usize>; 2]> = (0..n - 1).map(|i| [Some(i), Some(i + 1)]).collect();
-        let p = SparsePattern::from_elements(n, eqs.iter().map(|e| &e[..]));
-        let mut v = vec![0.0; p.nnz()];
-        for i in 0..n {
-            v[p.position(i, i).unwrap()] = 2.0 + s;
-            if i + 1 < n {
-                v[p.position(i, i + 1).unwrap()] = -1.0;
-                v[p.position(i + 1, i).unwrap()] = -1.0;
-            }
-        }
-        (p, v)
-    }
 
     proptest! {
         /// The corrected solve equals a direct solve of the updated matrix.
@@ -139,7 +125,7 @@ mod tests {
         fn woodbury_equals_direct_solve(deltas in proptest::collection::vec(-0.9..5.0f64, 3),
                                         b in proptest::collection::vec(-1.0..1.0f64, 8)) {
             let n = 8;
-            let (p, v0) = chain(n, 0.5);
+            let (p, v0) = SparsePattern::chain(n, 0.5);
             let springs: Vec<SpringEqs> = vec![[Some(0), Some(3)], [None, Some(5)], [Some(6), Some(7)]];
             let base = TangentFactor::General(crate::eigen::factor::SparseFactor::new(&p, &v0).unwrap());
             let changes: Vec<(usize, f64)> = deltas.iter().copied().enumerate().collect();
