@@ -137,10 +137,16 @@ pub fn evaluate_full(
                 }
                 let theta: Vec<f64> = us[k].iter().zip(ev.priors).map(|(u, p)| p.at(*u)).collect();
                 let out = match ev.simulate(&theta) {
-                    Ok(sims) => (
-                        Point { u: us[k].clone(), fit: Ok(ev.channels(&sims)) },
-                        Some(ev.residuals(&sims)),
-                    ),
+                    Ok(sims) => {
+                        let (fits, mut residuals) = ev.fits(&sims);
+                        // Missing readings add nothing to a Jacobian.
+                        residuals
+                            .iter_mut()
+                            .flatten()
+                            .filter(|r| !r.is_finite())
+                            .for_each(|r| *r = 0.0);
+                        (Point { u: us[k].clone(), fit: Ok(fits) }, Some(residuals))
+                    }
                     Err(e) => (Point { u: us[k].clone(), fit: Err(e) }, None),
                 };
                 if let Ok(mut slot) = slots[k].lock() {

@@ -127,48 +127,29 @@ impl Evaluation<'_> {
         Ok(d)
     }
 
-    /// Residuals (simulated − offset-corrected measured) per channel, in the
-    /// order of [`Evaluation::channels`]; 0 where a reading is missing.
-    pub fn residuals(&self, sims: &[Simulated]) -> Vec<Vec<f64>> {
-        let mut out = Vec::new();
+    /// Channel fits of simulated runs against the measured ones.
+    pub fn channels(&self, sims: &[Simulated]) -> Vec<ChannelFit> {
+        self.fits(sims).0
+    }
+
+    /// Channel fits and, in the same order, each channel's residuals
+    /// (simulated − offset-corrected measured; NaN where a reading is missing).
+    pub fn fits(&self, sims: &[Simulated]) -> (Vec<ChannelFit>, Vec<Vec<f64>>) {
+        let (mut fits, mut residuals) = (Vec::new(), Vec::new());
         for (&k, sim) in self.runs.iter().zip(sims) {
             let run = &self.bundle.runs[k];
             for (id, s) in sim {
                 if let Some(m) = run.sensor(id) {
                     let off = pre_event_offset(m, run.dt_s);
-                    out.push(
-                        m.iter()
-                            .zip(s)
-                            .map(|(a, b)| {
-                                let r = b - (a - off);
-                                if r.is_finite() {
-                                    r
-                                } else {
-                                    0.0
-                                }
-                            })
-                            .collect(),
-                    );
-                }
-            }
-        }
-        out
-    }
-
-    /// Channel fits of simulated runs against the measured ones.
-    pub fn channels(&self, sims: &[Simulated]) -> Vec<ChannelFit> {
-        let mut out = Vec::new();
-        for (&k, sim) in self.runs.iter().zip(sims) {
-            let run = &self.bundle.runs[k];
-            for (id, s) in sim {
-                if let Some(m) = run.sensor(id) {
-                    let mut c = channel_fit(run, id, m, s);
+                    let r: Vec<f64> = m.iter().zip(s).map(|(a, b)| b - (a - off)).collect();
+                    let mut c = channel_fit(run, id, m, off, &r);
                     c.excited = excited(self.bundle, run, id);
-                    out.push(c);
+                    fits.push(c);
+                    residuals.push(r);
                 }
             }
         }
-        out
+        (fits, residuals)
     }
 }
 
@@ -188,27 +169,26 @@ pub fn pre_event_offset(m: &[f64], dt_s: f64) -> f64 {
     head[head.len() / 2]
 }
 
-fn channel_fit(run: &RunData, id: &str, m: &[f64], s: &[f64]) -> ChannelFit {
-    let off = pre_event_offset(m, run.dt_s);
+/// The fit of one channel from its measured samples, their offset and the
+/// residuals (NaN where either side is missing).
+fn channel_fit(run: &RunData, id: &str, m: &[f64], off: f64, r: &[f64]) -> ChannelFit {
     let (mut ssr, mut n, mut mm) = (0.0, 0usize, 0.0);
-    let (mut c0, mut c1, mut prev) = (0.0, 0.0, None::<f64>);
-    for (a, b) in m.iter().zip(s) {
-        let a = a - off;
-        if !a.is_finite() || !b.is_finite() {
+    let (mut c1, mut prev) = (0.0, None::<f64>);
+    for (a, r) in m.iter().zip(r) {
+        if !r.is_finite() {
             prev = None;
             continue;
         }
-        let r = b - a;
+        let a = a - off;
         ssr += r * r;
         mm += a * a;
         n += 1;
-        c0 += r * r;
         if let Some(p) = prev {
             c1 += r * p;
         }
-        prev = Some(r);
+        prev = Some(*r);
     }
-    let rho = if c0 > 0.0 { (c1 / c0).clamp(0.0, 0.995) } else { 0.0 };
+    let rho = if ssr > 0.0 { (c1 / ssr).clamp(0.0, 0.995) } else { 0.0 };
     ChannelFit {
         run: run.id.clone(),
         sensor: id.into(),

@@ -120,7 +120,7 @@ pub fn synthesize(
     }
     let truth_spec = fe_spec(&spec.structure, cause.model_options())?;
     let mut params = truth_parameters(spec, &truth_spec, cause)?;
-    let effect = effect_values(spec, cause, demand, &params);
+    let effect = effect_values(spec, cause, demand);
     for (name, v) in &effect {
         params.set(name, *v).map_err(|e| SynthError::Parameter {
             key: format!("hidden.parameters.{name}"),
@@ -192,7 +192,6 @@ fn effect_values(
     spec: &SynthSpec,
     cause: Cause,
     demand: Option<[f64; 3]>,
-    _p: &Parameters,
 ) -> BTreeMap<String, f64> {
     let s = spec.hidden.strength;
     let pick = |w: f64, m: f64, st: f64| match s {
