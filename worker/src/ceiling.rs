@@ -20,7 +20,9 @@ pub mod excitation;
 pub mod sensors;
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+use crate::specimen::{base_parameters, read_spec};
 
 use fe::ceiling::sensor::place;
 use fe::ceiling::{simulate, BaseInput, CeilingError, SimOptions, Simulation};
@@ -94,15 +96,10 @@ impl Ceiling {
     /// Reads the specimen and the excitation, places the sensors and checks
     /// every parameter name against the specimen's model variant.
     pub fn new(opts: CeilingOptions, names: &[String]) -> Result<Self, ModelError> {
-        let spec = match (&opts.spec, &opts.spec_toml) {
-            (None, Some(text)) => CeilingSpec::from_toml_str(text, Path::new("[model] spec_toml")),
-            (Some(path), None) => CeilingSpec::from_toml_file(path),
-            _ => {
-                return Err(invalid("expected exactly one of `spec` (file) or `spec_toml`".into()))
-            }
-        };
-        let spec = spec.map_err(|e| invalid(e.to_string()))?;
-        let base = base_parameters(&spec, &opts.fixed, names)?;
+        let spec = read_spec(&opts.spec, &opts.spec_toml).map_err(invalid)?;
+        let study_names = names.iter().filter(|n| *n != DAMPING_RATIO);
+        let hint = format!(" (or `{DAMPING_RATIO}`, the Rayleigh damping ratio)");
+        let base = base_parameters(&spec, &opts.fixed, study_names, &hint).map_err(invalid)?;
         if opts.n_modes == 0 {
             return Err(invalid("n_modes = 0: expected at least 1".into()));
         }
@@ -132,27 +129,6 @@ impl Ceiling {
     pub fn input(&self) -> &BaseInput {
         &self.input
     }
-}
-
-/// Prior mid-points of the specimen's variant, `fixed` values set, and every
-/// study parameter name checked.
-fn base_parameters(
-    spec: &CeilingSpec,
-    fixed: &BTreeMap<String, f64>,
-    names: &[String],
-) -> Result<Parameters, ModelError> {
-    let mut base = Parameters::prior_midpoints_for(spec);
-    for (name, value) in fixed {
-        base.set(name, *value).map_err(|e| invalid(format!("fixed: {e}")))?;
-    }
-    for name in names.iter().filter(|n| *n != DAMPING_RATIO) {
-        let mid = base.get(name);
-        let mut probe = base.clone();
-        probe.set(name, if mid.is_finite() { mid } else { 1.0 }).map_err(|e| {
-            invalid(format!("{e} (or `{DAMPING_RATIO}`, the Rayleigh damping ratio)"))
-        })?;
-    }
-    Ok(base)
 }
 
 /// `Ok` for 0 <= ratio < 1, else the value and what was expected.

@@ -7,8 +7,9 @@
 //! mode's largest effective mass (1 = x, 2 = y, 3 = z).
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
+use crate::specimen::{base_parameters, read_spec};
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{generate, CeilingSpec, Parameters};
 use protocol::Outputs;
@@ -52,25 +53,8 @@ impl CeilingModal {
     /// Reads the specimen and checks every parameter name against Table 6.1.
     pub fn new(opts: CeilingModalOptions, names: &[String]) -> Result<Self, ModelError> {
         let invalid = |message: String| ModelError::Invalid { kind: KIND.into(), message };
-        let spec = match (&opts.spec, &opts.spec_toml) {
-            (None, Some(text)) => CeilingSpec::from_toml_str(text, Path::new("[model] spec_toml")),
-            (Some(path), None) => CeilingSpec::from_toml_file(path),
-            _ => {
-                return Err(invalid("expected exactly one of `spec` (file) or `spec_toml`".into()))
-            }
-        };
-        let spec = spec.map_err(|e| invalid(e.to_string()))?;
-        let mut base = Parameters::prior_midpoints_for(&spec);
-        for (name, value) in &opts.fixed {
-            base.set(name, *value).map_err(|e| invalid(format!("fixed: {e}")))?;
-        }
-        for name in names {
-            let mid = base.get(name);
-            let mut probe = base.clone();
-            probe
-                .set(name, if mid.is_finite() { mid } else { 1.0 })
-                .map_err(|e| invalid(e.to_string()))?;
-        }
+        let spec = read_spec(&opts.spec, &opts.spec_toml).map_err(invalid)?;
+        let base = base_parameters(&spec, &opts.fixed, names, "").map_err(invalid)?;
         if opts.n_modes == 0 {
             return Err(invalid("n_modes = 0: expected at least 1".into()));
         }

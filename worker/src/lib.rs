@@ -26,6 +26,7 @@ pub mod models;
 pub mod registry;
 pub mod remote;
 pub mod run;
+pub mod specimen;
 
 pub use model::{Model, ModelError, ParamSet, RunContext, RunError};
 pub use run::{run_task, LocalRunner};

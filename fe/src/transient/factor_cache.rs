@@ -249,7 +249,6 @@ impl FactorCache {
 mod tests {
     use super::*;
 
-
     /// A 6 x 7 grid Laplacian (fill-in, a non-trivial AMD ordering and
     /// supernodes wider than one column) with `shift` on the diagonal.
     fn grid(shift: f64) -> (SparsePattern, Vec<f64>) {

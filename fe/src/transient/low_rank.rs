@@ -118,7 +118,6 @@ mod tests {
     use crate::assembly::SparsePattern;
     use proptest::prelude::*;
 
-
     proptest! {
         /// The corrected solve equals a direct solve of the updated matrix.
         #[test]
