@@ -33,6 +33,7 @@ pub struct KohLikelihood<S> {
     x: Vec<Vec<f64>>,
     y: Vec<f64>,
     settings: KohSettings,
+    noise_scale: Vec<f64>,
     fixed_chol: Option<Cholesky<f64, Dyn>>,
 }
 
@@ -49,18 +50,37 @@ impl<S: Simulator> KohLikelihood<S> {
         settings.noise_sd.check_positive("noise_sd")?;
         settings.disc_sd.check_positive("discrepancy sd")?;
         settings.disc_length.check_positive("discrepancy length")?;
-        let mut me = Self { sim, x, y, settings, fixed_chol: None };
+        let noise_scale = vec![1.0; y.len()];
+        let mut me = Self { sim, x, y, settings, noise_scale, fixed_chol: None };
+        me.refactor_fixed()?;
+        Ok(me)
+    }
+
+    /// Observation i gets noise sd `noise_sd * scale[i]` (e.g. noise_sd fixed
+    /// at 1 and `scale` the measured sds).
+    pub fn with_noise_scale(mut self, scale: Vec<f64>) -> Result<Self, CalibError> {
+        CalibError::check_len("noise scales", scale.len(), self.y.len())?;
+        if let Some(s) = scale.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+            return Err(CalibError::invalid("noise scale", s, "a finite value > 0"));
+        }
+        self.noise_scale = scale;
+        self.refactor_fixed()?;
+        Ok(self)
+    }
+
+    /// Factors the covariance once when every hyperparameter is fixed.
+    fn refactor_fixed(&mut self) -> Result<(), CalibError> {
         if let KohSettings {
             noise_sd: Hyper::Fixed(s),
             disc_sd: Hyper::Fixed(d),
             disc_length: Hyper::Fixed(l),
             ..
-        } = settings
+        } = self.settings
         {
-            me.fixed_chol =
-                Some(me.factor(s, SquaredExponential { sd: d, length: l }, None, 1.0)?);
+            self.fixed_chol =
+                Some(self.factor(s, SquaredExponential { sd: d, length: l }, None, 1.0)?);
         }
-        Ok(me)
+        Ok(())
     }
 
     fn factor(
@@ -72,7 +92,8 @@ impl<S: Simulator> KohLikelihood<S> {
     ) -> Result<Cholesky<f64, Dyn>, CalibError> {
         let mut c = k.matrix(&self.x);
         for i in 0..self.y.len() {
-            c[(i, i)] += noise_sd * noise_sd + emu_var.map_or(0.0, |v| alpha * alpha * v[i]);
+            let s = noise_sd * self.noise_scale[i];
+            c[(i, i)] += s * s + emu_var.map_or(0.0, |v| alpha * alpha * v[i]);
         }
         Cholesky::new(c).ok_or(CalibError::NotPositiveDefinite { what: "KOH covariance".into() })
     }
@@ -135,7 +156,8 @@ impl<S: Simulator> Likelihood for KohLikelihood<S> {
     fn log_likelihood(&self, params: &[f64]) -> Result<f64, CalibError> {
         let (r, alpha, noise, k, var) = self.parts(params)?;
         if k.sd == 0.0 && var.is_none() {
-            return Ok(gaussian_log_density(&r, std::iter::repeat(noise * noise)));
+            let var = self.noise_scale.iter().map(|s| (noise * s).powi(2));
+            return Ok(gaussian_log_density(&r, var));
         }
         match (&self.fixed_chol, &var) {
             (Some(chol), None) => Ok(mvn_log_density(chol, &r)),
@@ -167,6 +189,27 @@ mod tests {
         let g = GaussianLikelihood::new(sim(), y, Hyper::Fixed(0.3)).unwrap();
         let (a, b) = (koh.log_likelihood(&[1.1]).unwrap(), g.log_likelihood(&[1.1]).unwrap());
         assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+    }
+
+    #[test]
+    fn noise_scale_gives_each_observation_its_sd() {
+        let sim = || FnSimulator::new(1, 3, |t: &[f64]| Ok(vec![t[0], 2.0 * t[0], 0.5]));
+        let x = vec![vec![0.0], vec![0.5], vec![1.0]];
+        let y = vec![0.9, 2.2, 0.4];
+        let sds = vec![0.1, 0.3, 0.05];
+        let mut s = settings(1e-9);
+        s.noise_sd = Hyper::Fixed(1.0);
+        let koh = KohLikelihood::new(sim(), x, y.clone(), s).unwrap();
+        let koh = koh.with_noise_scale(sds.clone()).unwrap();
+        let m = [1.1, 2.2, 0.5];
+        let want: f64 = (0..3)
+            .map(|i| {
+                let r: f64 = y[i] - m[i];
+                -0.5 * (r * r / (sds[i] * sds[i]) + (2.0 * PI * sds[i] * sds[i]).ln())
+            })
+            .sum();
+        let got = koh.log_likelihood(&[1.1]).unwrap();
+        assert!((got - want).abs() < 1e-6, "{got} vs {want}");
     }
 
     /// A GP emulator's predictive variance v adds alpha² v to the diagonal.

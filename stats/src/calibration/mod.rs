@@ -17,6 +17,7 @@
 //! assert!(post.log_density(&[0.0]).is_finite());
 //! ```
 
+pub mod emulator;
 pub mod error;
 pub mod gaussian;
 pub mod kernel;
@@ -28,6 +29,7 @@ pub mod run;
 pub mod simulator;
 pub mod summary;
 
+pub use emulator::GpEmulator;
 pub use error::CalibError;
 pub use gaussian::GaussianLikelihood;
 pub use kernel::SquaredExponential;
@@ -36,5 +38,5 @@ pub use likelihood::{Hyper, Likelihood};
 pub use posterior::{LogDensity, Posterior};
 pub use prior::UniformBox;
 pub use run::{calibrate, CalibrationResult, Diagnostics, Method, RunError, RunSettings};
-pub use simulator::{FnSimulator, Prediction, Simulator, SubsetSimulator};
+pub use simulator::{FnSimulator, Prediction, Simulator, SubsetSimulator, Whitened};
 pub use summary::{Marginal, PosteriorSummary};

@@ -132,3 +132,72 @@ impl<S: Simulator> Simulator for SubsetSimulator<S> {
         self.inner.predict(&self.full(theta))
     }
 }
+
+/// A simulator whose outputs are divided by a per-observation scale (the
+/// observation sds): with observations divided the same way, unit noise
+/// stands for independent noise of sd `scale[i]` at observation i.
+pub struct Whitened<S> {
+    inner: S,
+    scale: Vec<f64>,
+}
+
+impl<S: Simulator> Whitened<S> {
+    /// Divides output i of `inner` by `scale[i]` (finite, > 0).
+    pub fn new(inner: S, scale: Vec<f64>) -> Result<Self, CalibError> {
+        CalibError::check_len("output scales", scale.len(), inner.n_outputs())?;
+        if let Some(s) = scale.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+            return Err(CalibError::invalid("output scale", s, "a finite value > 0"));
+        }
+        Ok(Self { inner, scale })
+    }
+
+    /// Observations divided by the same scales.
+    pub fn whiten(&self, y: &[f64]) -> Vec<f64> {
+        y.iter().zip(&self.scale).map(|(v, s)| v / s).collect()
+    }
+}
+
+impl<S: Simulator> Simulator for Whitened<S> {
+    fn n_params(&self) -> usize {
+        self.inner.n_params()
+    }
+    fn n_outputs(&self) -> usize {
+        self.inner.n_outputs()
+    }
+    fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
+        let p = self.inner.predict(theta)?;
+        let s = &self.scale;
+        Ok(Prediction {
+            mean: p.mean.iter().zip(s).map(|(m, s)| m / s).collect(),
+            variance: p.variance.map(|v| v.iter().zip(s).map(|(v, s)| v / (s * s)).collect()),
+        })
+    }
+}
+
+#[cfg(test)]
+mod whitened_tests {
+    use super::*;
+
+    #[test]
+    fn divides_means_and_variances() {
+        struct Two;
+        impl Simulator for Two {
+            fn n_params(&self) -> usize {
+                1
+            }
+            fn n_outputs(&self) -> usize {
+                2
+            }
+            fn predict(&self, t: &[f64]) -> Result<Prediction, CalibError> {
+                Ok(Prediction { mean: vec![t[0], 4.0], variance: Some(vec![1.0, 8.0]) })
+            }
+        }
+        let w = Whitened::new(Two, vec![2.0, 4.0]).unwrap();
+        let p = w.predict(&[3.0]).unwrap();
+        assert_eq!(p.mean, vec![1.5, 1.0]);
+        assert_eq!(p.variance.unwrap(), vec![0.25, 0.5]);
+        assert_eq!(w.whiten(&[2.0, 2.0]), vec![1.0, 0.5]);
+        assert!(Whitened::new(Two, vec![1.0, 0.0]).is_err());
+        assert!(Whitened::new(Two, vec![1.0]).is_err());
+    }
+}

@@ -127,6 +127,19 @@ impl Gp {
         ks
     }
 
+    /// Predictive means only at the (m, d) physical points (no triangular
+    /// solve: O(n m d), in blocks of 512 points to bound memory; for
+    /// Sobol' samples and Jacobians).
+    pub fn predict_mean(&self, x: &[f64]) -> Result<Vec<f64>, GpError> {
+        let block = 512 * self.model.dim.max(1);
+        let mut out = Vec::with_capacity(x.len() / self.model.dim.max(1));
+        for chunk in x.chunks(block) {
+            let (xs, ks) = self.cross(chunk)?;
+            out.extend(self.means(&xs, &ks));
+        }
+        Ok(out)
+    }
+
     /// Predictive mean and sd at the (m, d) physical points; `with_noise`
     /// adds the fitted white-noise variance (prediction of an observation).
     pub fn predict(&self, x: &[f64], with_noise: bool) -> Result<Prediction, GpError> {

@@ -1,0 +1,109 @@
+//! GP emulators as a calibration simulator: one fitted GP per observation,
+//! all over the same physical parameters, each giving the predictive mean
+//! and (optionally) its variance, which the likelihoods add to the noise.
+
+use super::{CalibError, Prediction, Simulator};
+use crate::gp::Gp;
+
+/// One GP per observation over the same parameters.
+pub struct GpEmulator {
+    gps: Vec<Gp>,
+    with_variance: bool,
+}
+
+impl GpEmulator {
+    /// Emulators in observation order; `with_variance` passes each GP's
+    /// latent predictive variance on to the likelihood.
+    pub fn new(gps: Vec<Gp>, with_variance: bool) -> Result<Self, CalibError> {
+        let Some(first) = gps.first() else {
+            return Err(CalibError::invalid("emulators", 0, "at least one GP"));
+        };
+        let d = first.model.dim;
+        if let Some((i, g)) = gps.iter().enumerate().find(|(_, g)| g.model.dim != d) {
+            return Err(CalibError::invalid(
+                &format!("emulator {i} inputs"),
+                g.model.dim,
+                &format!("{d} inputs like emulator 0"),
+            ));
+        }
+        Ok(Self { gps, with_variance })
+    }
+
+    /// The same emulators with the variance switched on or off.
+    pub fn with_variance(mut self, on: bool) -> Self {
+        self.with_variance = on;
+        self
+    }
+}
+
+impl Simulator for GpEmulator {
+    fn n_params(&self) -> usize {
+        self.gps[0].model.dim
+    }
+    fn n_outputs(&self) -> usize {
+        self.gps.len()
+    }
+    fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
+        CalibError::check_len("emulator parameters", theta.len(), self.n_params())?;
+        let fail = |e: crate::gp::GpError| CalibError::Simulator {
+            theta: theta.to_vec(),
+            message: e.to_string(),
+        };
+        if !self.with_variance {
+            let mean = self
+                .gps
+                .iter()
+                .map(|g| g.predict_mean(theta).map(|m| m[0]))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(fail)?;
+            return Ok(Prediction { mean, variance: None });
+        }
+        let (mut mean, mut var) = (Vec::new(), Vec::new());
+        for g in &self.gps {
+            let p = g.predict(theta, false).map_err(fail)?;
+            mean.push(p.mean[0]);
+            var.push(p.sd[0] * p.sd[0]);
+        }
+        Ok(Prediction { mean, variance: Some(var) })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gp::{fit, GpSettings};
+
+    fn gps() -> Vec<Gp> {
+        let x: Vec<f64> = (0..12).map(|i| i as f64 / 11.0).collect();
+        let ya: Vec<f64> = x.iter().map(|v| (3.0 * v).sin()).collect();
+        let yb: Vec<f64> = x.iter().map(|v| v * v).collect();
+        let set = GpSettings::default();
+        vec![fit(&x, 1, &ya, None, &set).unwrap(), fit(&x, 1, &yb, None, &set).unwrap()]
+    }
+
+    #[test]
+    fn means_match_each_gp_and_variance_is_optional() {
+        let gps = gps();
+        let want: Vec<f64> =
+            gps.iter().map(|g| g.predict(&[0.37], false).unwrap().mean[0]).collect();
+        let sd: Vec<f64> = gps.iter().map(|g| g.predict(&[0.37], false).unwrap().sd[0]).collect();
+        let emu = GpEmulator::new(gps, true).unwrap();
+        let p = emu.predict(&[0.37]).unwrap();
+        assert_eq!(p.mean, want);
+        let var = p.variance.unwrap();
+        assert!((var[0] - sd[0] * sd[0]).abs() < 1e-15 && (var[1] - sd[1] * sd[1]).abs() < 1e-15);
+        let q = emu.with_variance(false).predict(&[0.37]).unwrap();
+        assert!(q.variance.is_none());
+        for (a, b) in q.mean.iter().zip(&want) {
+            assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+        }
+        assert!((want[0] - (3.0f64 * 0.37).sin()).abs() < 1e-3);
+    }
+
+    #[test]
+    fn wrong_parameter_count_is_an_error() {
+        let emu = GpEmulator::new(gps(), false).unwrap();
+        assert!(emu.predict(&[0.1, 0.2]).is_err());
+        assert!(GpEmulator::new(vec![], false).is_err());
+    }
+}
