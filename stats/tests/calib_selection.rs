@@ -67,3 +67,23 @@ fn two_parameter_model_wins_bic_and_mdl() {
         mdl("kc")
     );
 }
+
+/// With two observations a three-parameter candidate has a singular Fisher
+/// information everywhere: it is marked unidentifiable, its MDL, ICOMP and
+/// Fisher integral are NaN, and it cannot win those criteria.
+#[test]
+fn more_parameters_than_observations_is_unidentifiable() {
+    let (x, y) = read_xy("calib_nodisc.csv");
+    let (x, y) = (x[..2].to_vec(), y[..2].to_vec());
+    let problem =
+        SelectionProblem { sim: simulator(x), prior: prior(), y, noise_sd: 0.1, truth: None };
+    let cands = [candidate("kcm", &["k", "c", "m"]), candidate("k", &["k"])];
+    let set = SelectionSettings { qmc_points: 256, ..SelectionSettings::default() };
+    let table = select(&problem, &cands, &set).unwrap();
+    let kcm = &table.candidates[0];
+    assert!(!kcm.identifiable);
+    assert!(kcm.mdl.is_nan() && kcm.icomp.is_nan() && kcm.log_fisher_integral.is_nan());
+    assert!(table.candidates[1].identifiable && table.candidates[1].mdl.is_finite());
+    assert_eq!(table.selected["mdl"], "k");
+    assert_eq!(table.selected["icomp"], "k");
+}

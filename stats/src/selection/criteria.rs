@@ -40,6 +40,9 @@ pub struct CandidateScore {
     pub log_fisher_integral_se: f64,
     /// Generalisability Gr % (seed eq. 6.12), if the truth is known.
     pub gr_percent: Option<f64>,
+    /// False when k exceeds the number of observations: I1 is then singular
+    /// everywhere, and MDL, ICOMP and the Fisher integral are undefined (NaN).
+    pub identifiable: bool,
 }
 
 /// AIC = 2 nll + 2k.

@@ -2,7 +2,7 @@
 //! problem and names the winner under each criterion (seed Table 6.3–6.4).
 
 use super::criteria::{aic, bic, dic, icomp, mdl, CandidateScore};
-use super::fisher::{fisher_total, jacobian, log_fisher_integral};
+use super::fisher::{fisher_total, jacobian, log_fisher_integral, FisherIntegral};
 use super::generalisability::gr_percent;
 use super::ml::fit_ml;
 use crate::calibration::{
@@ -171,9 +171,13 @@ pub fn score_candidate<S: Simulator>(
     let ml = fit_ml(&lik, &box_, s.starts, s.seed as u32);
     let width: Vec<f64> = (0..k).map(|j| box_.upper[j] - box_.lower[j]).collect();
     let fisher = fisher_total(&jacobian(&sub, &ml.theta, &width).map_err(calib)?, p.noise_sd);
-    let fi =
+    let identifiable = k <= n;
+    let fi = if identifiable {
         log_fisher_integral(&sub, &box_, p.noise_sd, s.qmc_points, s.qmc_replicates, s.seed as u32)
-            .map_err(calib)?;
+            .map_err(calib)?
+    } else {
+        FisherIntegral { log_value: f64::NAN, log_se: f64::NAN, points: 0 }
+    };
     let (dic_value, p_d) = dic_of(&box_, &lik, &ml.theta, &s.mcmc, &c.name)?;
     let gr = match &p.truth {
         Some(t) => Some(gr_percent(&sub.predict(&ml.theta).map_err(calib)?.mean, t)),
@@ -189,11 +193,12 @@ pub fn score_candidate<S: Simulator>(
         bic: bic(nll, k, n),
         dic: dic_value,
         p_d,
-        icomp: icomp(nll, &fisher).unwrap_or(f64::INFINITY),
+        icomp: if identifiable { icomp(nll, &fisher).unwrap_or(f64::INFINITY) } else { f64::NAN },
         mdl: mdl(nll, k, n, fi.log_value),
         log_fisher_integral: fi.log_value,
         log_fisher_integral_se: fi.log_se,
         gr_percent: gr,
+        identifiable,
     })
 }
 
@@ -238,7 +243,8 @@ pub fn select<S: Simulator>(
         ("mdl", |c| c.mdl),
     ];
     for (name, f) in crits {
-        if let Some(best) = scores.iter().min_by(|a, b| f(a).total_cmp(&f(b))) {
+        let defined = scores.iter().filter(|c| !f(c).is_nan());
+        if let Some(best) = defined.min_by(|a, b| f(a).total_cmp(&f(b))) {
             selected.insert(name.to_string(), best.name.clone());
         }
     }
