@@ -4,6 +4,7 @@
 
 use super::{CalibError, Prediction, Simulator};
 use crate::gp::Gp;
+use nalgebra::DMatrix;
 
 /// One GP per observation over the same parameters.
 pub struct GpEmulator {
@@ -66,12 +67,42 @@ impl Simulator for GpEmulator {
         }
         Ok(Prediction { mean, variance: Some(var) })
     }
+    /// Analytic, in the means-only mode (the variance would depend on theta).
+    fn jacobian(&self, theta: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+        if self.with_variance {
+            return None;
+        }
+        if let Err(e) = CalibError::check_len("emulator parameters", theta.len(), self.n_params()) {
+            return Some(Err(e));
+        }
+        let mut j = DMatrix::zeros(self.gps.len(), theta.len());
+        let mut mean = Vec::with_capacity(self.gps.len());
+        for (i, g) in self.gps.iter().enumerate() {
+            match g.predict_mean_grad(theta) {
+                Ok((m, grad)) => {
+                    mean.push(m);
+                    j.row_mut(i).copy_from_slice(&grad);
+                }
+                Err(e) => {
+                    return Some(Err(CalibError::Simulator {
+                        theta: theta.to_vec(),
+                        message: e.to_string(),
+                    }))
+                }
+            }
+        }
+        Some(Ok((Prediction { mean, variance: None }, j)))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gp::{fit, GpSettings};
+    use crate::gp::mean::Trend;
+    use crate::gp::{
+        fit, FitReport, GpModel, GpSettings, InputScaling, Kernel, KernelKind, MeanKind,
+        OutputScaling,
+    };
 
     fn gps() -> Vec<Gp> {
         let x: Vec<f64> = (0..12).map(|i| i as f64 / 11.0).collect();
@@ -98,6 +129,68 @@ mod tests {
             assert!((a - b).abs() < 1e-12, "{a} vs {b}");
         }
         assert!((want[0] - (3.0f64 * 0.37).sin()).abs() < 1e-3);
+    }
+
+    /// A GP with set hyperparameters and noise (well conditioned, so that
+    /// central differences are accurate).
+    fn noisy_gp(kind: KernelKind, trend: Option<Trend>) -> Gp {
+        let x: Vec<f64> = (0..40)
+            .flat_map(|i| [((i * 7) % 40) as f64 / 39.0, ((i * 13) % 40) as f64 / 39.0])
+            .collect();
+        let y: Vec<f64> = x.chunks(2).map(|p| (3.0 * p[0]).sin() + p[1] * p[1] - 0.5).collect();
+        let model = GpModel {
+            kernel: Kernel { kind, lengths: vec![0.3, 0.5], variance: 1.3, alpha: 1.5 },
+            noise_var: 0.01,
+            mean: if trend.is_some() { MeanKind::Linear } else { MeanKind::Constant },
+            trend,
+            input_scaling: InputScaling { lo: vec![0.0, -1.0], hi: vec![2.0, 3.0] },
+            output_scaling: OutputScaling { mean: 8.0, sd: 0.7 },
+            x,
+            y,
+            dim: 2,
+            report: FitReport {
+                starts: 1,
+                best_start: 0,
+                lml: 0.0,
+                start_lmls: vec![],
+                evaluations: 0,
+                jitter: 0.0,
+            },
+        };
+        Gp::from_model(model).unwrap()
+    }
+
+    #[test]
+    fn jacobian_matches_central_differences() {
+        let kinds =
+            [KernelKind::SquaredExponential, KernelKind::Matern52, KernelKind::RationalQuadratic];
+        for kind in kinds {
+            for trend in [None, Some(Trend { beta: vec![0.2, -0.4, 0.9] })] {
+                let emu = GpEmulator::new(vec![noisy_gp(kind, trend.clone())], false).unwrap();
+                let t = [0.83, 0.61];
+                let (p, j) = emu.jacobian(&t).unwrap().unwrap();
+                let pm = emu.predict(&t).unwrap().mean[0];
+                assert!(
+                    (p.mean[0] - pm).abs() < 1e-12 * pm.abs(),
+                    "{kind:?}: {} vs {pm}",
+                    p.mean[0]
+                );
+                for k in 0..2 {
+                    let h = 1e-5;
+                    let (mut a, mut b) = (t, t);
+                    a[k] += h;
+                    b[k] -= h;
+                    let fd = (emu.predict(&a).unwrap().mean[0] - emu.predict(&b).unwrap().mean[0])
+                        / (2.0 * h);
+                    let got = j[(0, k)];
+                    assert!(
+                        (got - fd).abs() < 1e-6 * (1.0 + fd.abs()),
+                        "{kind:?} {k}: {got} vs {fd}"
+                    );
+                }
+            }
+        }
+        assert!(GpEmulator::new(gps(), true).unwrap().jacobian(&[0.3]).is_none());
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! factor is computed once.
 
 use super::gaussian::gaussian_log_density;
-use super::{CalibError, Hyper, Likelihood, Simulator, SquaredExponential};
+use super::{CalibError, Hyper, Likelihood, Prediction, Simulator, SquaredExponential};
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 use std::f64::consts::PI;
 
@@ -101,16 +101,62 @@ impl<S: Simulator> KohLikelihood<S> {
     /// Residual y − alpha eta(theta) and the hyperparameters, from `params`.
     fn parts(&self, params: &[f64]) -> Result<Parts, CalibError> {
         CalibError::check_len("parameters", params.len(), self.n_params())?;
-        let np = self.sim.n_params();
-        let pred = self.sim.predict(&params[..np])?;
-        let mut next = np;
+        let pred = self.sim.predict(&params[..self.sim.n_params()])?;
+        Ok(self.parts_of(&pred, params))
+    }
+
+    /// As [`Self::parts`] for a given prediction.
+    fn parts_of(&self, pred: &Prediction, params: &[f64]) -> Parts {
+        let mut next = self.sim.n_params();
         let s = &self.settings;
         let alpha = s.alpha.value(params, &mut next);
         let noise = s.noise_sd.value(params, &mut next);
         let sd = s.disc_sd.value(params, &mut next);
         let length = s.disc_length.value(params, &mut next);
         let r = self.y.iter().zip(&pred.mean).map(|(y, m)| y - alpha * m).collect();
-        Ok((r, alpha, noise, SquaredExponential { sd, length }, pred.variance))
+        (r, alpha, noise, SquaredExponential { sd, length }, pred.variance.clone())
+    }
+
+    /// log p(y | params) from its parts.
+    fn log_likelihood_of(&self, parts: Parts) -> Result<f64, CalibError> {
+        let (r, alpha, noise, k, var) = parts;
+        if k.sd == 0.0 && var.is_none() {
+            let var = self.noise_scale.iter().map(|s| (noise * s).powi(2));
+            return Ok(gaussian_log_density(&r, var));
+        }
+        match (&self.fixed_chol, &var) {
+            (Some(chol), None) => Ok(mvn_log_density(chol, &r)),
+            _ => Ok(mvn_log_density(&self.factor(noise, k, var.as_deref(), alpha)?, &r)),
+        }
+    }
+
+    /// Gradient from the simulator's Jacobian: d/dtheta = alpha J^T C^-1 r
+    /// (C does not depend on theta); central differences in the few
+    /// hyperparameters, with the prediction held.
+    fn gradient_with(
+        &self,
+        pred: &Prediction,
+        jac: &DMatrix<f64>,
+        params: &[f64],
+        grad: &mut [f64],
+    ) -> Result<f64, CalibError> {
+        let (r, alpha, noise, k, var) = self.parts_of(pred, params);
+        let chol = self.factor(noise, k, var.as_deref(), alpha)?;
+        let w = chol.solve(&DVector::from_column_slice(&r));
+        let np = self.sim.n_params();
+        let g = jac.transpose() * &w * alpha;
+        grad[..np].copy_from_slice(g.as_slice());
+        let mut p = params.to_vec();
+        for i in np..params.len() {
+            let h = 1e-6 * (1.0 + params[i].abs());
+            p[i] = params[i] + h;
+            let up = self.log_likelihood_of(self.parts_of(pred, &p))?;
+            p[i] = params[i] - h;
+            let down = self.log_likelihood_of(self.parts_of(pred, &p))?;
+            p[i] = params[i];
+            grad[i] = (up - down) / (2.0 * h);
+        }
+        Ok(mvn_log_density(&chol, &r))
     }
 
     /// Posterior mean of the discrepancy delta at the observation points given `params`.
@@ -154,15 +200,20 @@ impl<S: Simulator> Likelihood for KohLikelihood<S> {
         self.y.len()
     }
     fn log_likelihood(&self, params: &[f64]) -> Result<f64, CalibError> {
-        let (r, alpha, noise, k, var) = self.parts(params)?;
-        if k.sd == 0.0 && var.is_none() {
-            let var = self.noise_scale.iter().map(|s| (noise * s).powi(2));
-            return Ok(gaussian_log_density(&r, var));
+        self.log_likelihood_of(self.parts(params)?)
+    }
+    fn log_likelihood_gradient(
+        &self,
+        params: &[f64],
+        grad: &mut [f64],
+    ) -> Option<Result<f64, CalibError>> {
+        if let Err(e) = CalibError::check_len("parameters", params.len(), self.n_params()) {
+            return Some(Err(e));
         }
-        match (&self.fixed_chol, &var) {
-            (Some(chol), None) => Ok(mvn_log_density(chol, &r)),
-            _ => Ok(mvn_log_density(&self.factor(noise, k, var.as_deref(), alpha)?, &r)),
-        }
+        Some(match self.sim.jacobian(&params[..self.sim.n_params()])? {
+            Ok((pred, jac)) => self.gradient_with(&pred, &jac, params, grad),
+            Err(e) => Err(e),
+        })
     }
 }
 
@@ -177,6 +228,59 @@ mod tests {
             noise_sd: Hyper::Fixed(0.3),
             disc_sd: Hyper::Fixed(d),
             disc_length: Hyper::Fixed(0.5),
+        }
+    }
+
+    /// eta(t) = (t0 + t1 x, t0 t1, sin t0) with its exact Jacobian.
+    struct Smooth;
+    impl Simulator for Smooth {
+        fn n_params(&self) -> usize {
+            2
+        }
+        fn n_outputs(&self) -> usize {
+            3
+        }
+        fn predict(&self, t: &[f64]) -> Result<Prediction, CalibError> {
+            Ok(Prediction {
+                mean: vec![t[0] + 0.5 * t[1], t[0] * t[1], t[0].sin()],
+                variance: None,
+            })
+        }
+        fn jacobian(&self, t: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+            let j = DMatrix::from_row_slice(3, 2, &[1.0, 0.5, t[1], t[0], t[0].cos(), 0.0]);
+            Some(self.predict(t).map(|p| (p, j)))
+        }
+    }
+
+    #[test]
+    fn analytic_gradient_matches_central_differences() {
+        use crate::calibration::posterior::fd_gradient;
+        use crate::calibration::{LogDensity, Posterior, UniformBox};
+        let s = KohSettings {
+            alpha: Hyper::Inferred,
+            noise_sd: Hyper::Fixed(1.0),
+            disc_sd: Hyper::Inferred,
+            disc_length: Hyper::Inferred,
+        };
+        let x = vec![vec![1.0], vec![2.0], vec![3.0]];
+        let lik = KohLikelihood::new(Smooth, x, vec![1.1, 0.4, 0.8], s)
+            .unwrap()
+            .with_noise_scale(vec![0.1, 0.05, 0.2])
+            .unwrap();
+        let names = ["a", "b", "alpha", "sd", "l"].map(String::from).to_vec();
+        let prior =
+            UniformBox::new(names, vec![0.0, 0.0, 0.5, 0.01, 0.5], vec![2.0, 2.0, 2.0, 1.0, 4.0])
+                .unwrap();
+        let post = Posterior::new(prior, lik).unwrap();
+        let z = [0.3, -0.7, 0.2, -0.4, 0.9];
+        let (mut g, mut f) = ([0.0; 5], [0.0; 5]);
+        let theta = post.to_physical(&z);
+        assert!(post.likelihood().log_likelihood_gradient(&theta, &mut [0.0; 5]).is_some());
+        let v = post.gradient(&z, &mut g);
+        let w = fd_gradient(&post, &z, &mut f);
+        assert!((v - w).abs() < 1e-12 * w.abs(), "{v} vs {w}");
+        for i in 0..5 {
+            assert!((g[i] - f[i]).abs() < 1e-5 * (1.0 + f[i].abs()), "{i}: {} vs {}", g[i], f[i]);
         }
     }
 

@@ -57,6 +57,15 @@ pub trait Likelihood: Send + Sync {
     fn n_params(&self) -> usize {
         self.n_sim_params() + self.extra_names().len()
     }
+    /// log p(y | params) and its gradient into `grad`, when the likelihood
+    /// can give it more cheaply than central differences (None otherwise).
+    fn log_likelihood_gradient(
+        &self,
+        _params: &[f64],
+        _grad: &mut [f64],
+    ) -> Option<Result<f64, CalibError>> {
+        None
+    }
 }
 
 impl<L: Likelihood + ?Sized> Likelihood for &L {

@@ -3,6 +3,7 @@
 //! emulator supplies one; a direct model does not).
 
 use super::CalibError;
+use nalgebra::DMatrix;
 
 /// Predictions at the observation points, (n_obs) each.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,6 +22,12 @@ pub trait Simulator: Send + Sync {
     fn n_outputs(&self) -> usize;
     /// Predicts at physical parameters `theta` (n_params).
     fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError>;
+    /// The prediction and d mean / d theta (n_outputs, n_params), when the
+    /// simulator can differentiate itself and its variance does not depend
+    /// on theta (None otherwise).
+    fn jacobian(&self, _theta: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+        None
+    }
 }
 
 /// A cheap simulator given as a closure returning the mean predictions.
@@ -68,6 +75,9 @@ impl<S: Simulator + ?Sized> Simulator for Box<S> {
     fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
         (**self).predict(theta)
     }
+    fn jacobian(&self, theta: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+        (**self).jacobian(theta)
+    }
 }
 
 impl<S: Simulator + ?Sized> Simulator for std::sync::Arc<S> {
@@ -80,6 +90,9 @@ impl<S: Simulator + ?Sized> Simulator for std::sync::Arc<S> {
     fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
         (**self).predict(theta)
     }
+    fn jacobian(&self, theta: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+        (**self).jacobian(theta)
+    }
 }
 
 impl<S: Simulator + ?Sized> Simulator for &S {
@@ -91,6 +104,9 @@ impl<S: Simulator + ?Sized> Simulator for &S {
     }
     fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
         (**self).predict(theta)
+    }
+    fn jacobian(&self, theta: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+        (**self).jacobian(theta)
     }
 }
 
@@ -130,6 +146,16 @@ impl<S: Simulator> Simulator for SubsetSimulator<S> {
     fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
         CalibError::check_len("free parameters", theta.len(), self.free.len())?;
         self.inner.predict(&self.full(theta))
+    }
+    fn jacobian(&self, theta: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+        if let Err(e) = CalibError::check_len("free parameters", theta.len(), self.free.len()) {
+            return Some(Err(e));
+        }
+        let (p, j) = match self.inner.jacobian(&self.full(theta))? {
+            Ok(v) => v,
+            Err(e) => return Some(Err(e)),
+        };
+        Some(Ok((p, j.select_columns(self.free.iter()))))
     }
 }
 

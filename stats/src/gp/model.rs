@@ -140,6 +140,38 @@ impl Gp {
         Ok(out)
     }
 
+    /// Predictive mean at one physical point and its gradient with respect
+    /// to the physical inputs (d).
+    pub fn predict_mean_grad(&self, x: &[f64]) -> Result<(f64, Vec<f64>), GpError> {
+        let d = self.model.dim;
+        if x.len() != d {
+            return Err(GpError::Shape { what: "prediction point", expected: d, found: x.len() });
+        }
+        let xs = self.model.input_scaling.apply(x);
+        let k = &self.model.kernel;
+        let (mut f, mut g) = (0.0, vec![0.0; d]);
+        for (i, row) in self.model.x.chunks(d).enumerate() {
+            let (shape, minus_2_dg, _) = k.shape(k.scaled_dist2(row, &xs));
+            f += k.variance * shape * self.factor.alpha[i];
+            let a = self.factor.alpha[i] * k.variance;
+            for j in 0..d {
+                let l = k.lengths[j];
+                g[j] -= a * minus_2_dg * (xs[j] - row[j]) / (l * l);
+            }
+        }
+        let out = self.model.output_scaling;
+        let sc = &self.model.input_scaling;
+        let trend = self.model.trend.as_ref();
+        let mean = trend.map_or(0.0, |t| t.eval(&xs)) + out.mean + out.sd * f;
+        let grad = (0..d)
+            .map(|j| {
+                let slope = trend.map_or(0.0, |t| t.beta[j + 1]);
+                (slope + out.sd * g[j]) / (sc.hi[j] - sc.lo[j])
+            })
+            .collect();
+        Ok((mean, grad))
+    }
+
     /// Predictive mean and sd at the (m, d) physical points; `with_noise`
     /// adds the fitted white-noise variance (prediction of an observation).
     pub fn predict(&self, x: &[f64], with_noise: bool) -> Result<Prediction, GpError> {
