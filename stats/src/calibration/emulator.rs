@@ -30,6 +30,15 @@ impl GpEmulator {
         Ok(Self { gps, with_variance })
     }
 
+    /// Each GP's latent predictive variance at `theta`.
+    pub fn variance_at(&self, theta: &[f64]) -> Result<Vec<f64>, CalibError> {
+        self.gps
+            .iter()
+            .map(|g| g.predict(theta, false).map(|p| p.sd[0] * p.sd[0]))
+            .collect::<Result<_, _>>()
+            .map_err(|e| CalibError::Simulator { theta: theta.to_vec(), message: e.to_string() })
+    }
+
     /// The same emulators with the variance switched on or off.
     pub fn with_variance(mut self, on: bool) -> Self {
         self.with_variance = on;

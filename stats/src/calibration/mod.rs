@@ -38,5 +38,5 @@ pub use likelihood::{Hyper, Likelihood};
 pub use posterior::{LogDensity, Posterior};
 pub use prior::UniformBox;
 pub use run::{calibrate, CalibrationResult, Diagnostics, Method, RunError, RunSettings};
-pub use simulator::{FnSimulator, Prediction, Simulator, SubsetSimulator, Whitened};
+pub use simulator::{FnSimulator, LinearMap, Prediction, Simulator, SubsetSimulator, Whitened};
 pub use summary::{Marginal, PosteriorSummary};

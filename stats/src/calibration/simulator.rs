@@ -198,6 +198,89 @@ impl<S: Simulator> Simulator for Whitened<S> {
             variance: p.variance.map(|v| v.iter().zip(s).map(|(v, s)| v / (s * s)).collect()),
         })
     }
+    fn jacobian(&self, theta: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+        let (p, mut j) = match self.inner.jacobian(theta)? {
+            Ok(v) => v,
+            Err(e) => return Some(Err(e)),
+        };
+        for (i, s) in self.scale.iter().enumerate() {
+            j.row_mut(i).scale_mut(1.0 / s);
+        }
+        let s = &self.scale;
+        Some(Ok((
+            Prediction {
+                mean: p.mean.iter().zip(s).map(|(m, s)| m / s).collect(),
+                variance: p.variance.map(|v| v.iter().zip(s).map(|(v, s)| v / (s * s)).collect()),
+            },
+            j,
+        )))
+    }
+}
+
+/// A simulator whose outputs are mapped by a fixed matrix: A (alpha eta).
+/// With A = L^-1, L the Cholesky factor of a fixed covariance C of
+/// y - alpha eta, and observations mapped the same way, unit white noise
+/// stands for N(0, C) (e.g. a Kennedy–O'Hagan discrepancy plus noise at
+/// fixed hyperparameters).
+pub struct LinearMap<S> {
+    inner: S,
+    a: DMatrix<f64>,
+}
+
+impl<S: Simulator> LinearMap<S> {
+    /// Outputs `a` (m, n_outputs) times `alpha` times those of `inner`.
+    pub fn new(inner: S, a: DMatrix<f64>, alpha: f64) -> Result<Self, CalibError> {
+        CalibError::check_len("map columns", a.ncols(), inner.n_outputs())?;
+        if !alpha.is_finite() || a.iter().any(|v| !v.is_finite()) {
+            return Err(CalibError::invalid("linear map", alpha, "finite entries"));
+        }
+        Ok(Self { inner, a: a * alpha })
+    }
+
+    /// Whitening by the Cholesky factor of `cov`: A = L^-1.
+    pub fn whitening(inner: S, cov: DMatrix<f64>, alpha: f64) -> Result<Self, CalibError> {
+        let n = cov.nrows();
+        let chol = cov
+            .cholesky()
+            .ok_or(CalibError::NotPositiveDefinite { what: "covariance to whiten by".into() })?;
+        let l_inv = chol
+            .l()
+            .solve_lower_triangular(&DMatrix::identity(n, n))
+            .ok_or(CalibError::NotPositiveDefinite { what: "covariance to whiten by".into() })?;
+        Self::new(inner, l_inv, alpha)
+    }
+
+    /// Observations mapped by the matrix without alpha: y -> L^-1 y when
+    /// whitening (the caller divides alpha back out).
+    pub fn map_observations(&self, y: &[f64], alpha: f64) -> Vec<f64> {
+        (&self.a * nalgebra::DVector::from_column_slice(y) / alpha).as_slice().to_vec()
+    }
+}
+
+impl<S: Simulator> Simulator for LinearMap<S> {
+    fn n_params(&self) -> usize {
+        self.inner.n_params()
+    }
+    fn n_outputs(&self) -> usize {
+        self.a.nrows()
+    }
+    fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
+        let p = self.inner.predict(theta)?;
+        let mean = &self.a * nalgebra::DVector::from_column_slice(&p.mean);
+        let variance = p.variance.map(|v| {
+            let a2 = self.a.map(|x| x * x);
+            (a2 * nalgebra::DVector::from_column_slice(&v)).as_slice().to_vec()
+        });
+        Ok(Prediction { mean: mean.as_slice().to_vec(), variance })
+    }
+    fn jacobian(&self, theta: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+        let (p, j) = match self.inner.jacobian(theta)? {
+            Ok(v) => v,
+            Err(e) => return Some(Err(e)),
+        };
+        let mean = &self.a * nalgebra::DVector::from_column_slice(&p.mean);
+        Some(Ok((Prediction { mean: mean.as_slice().to_vec(), variance: None }, &self.a * j)))
+    }
 }
 
 #[cfg(test)]
@@ -223,7 +306,35 @@ mod whitened_tests {
         assert_eq!(p.mean, vec![1.5, 1.0]);
         assert_eq!(p.variance.unwrap(), vec![0.25, 0.5]);
         assert_eq!(w.whiten(&[2.0, 2.0]), vec![1.0, 0.5]);
+        assert!(w.jacobian(&[3.0]).is_none());
         assert!(Whitened::new(Two, vec![1.0, 0.0]).is_err());
         assert!(Whitened::new(Two, vec![1.0]).is_err());
+    }
+}
+
+#[cfg(test)]
+mod linear_map_tests {
+    use super::*;
+    use crate::calibration::gaussian::gaussian_log_density;
+    use crate::calibration::koh::mvn_log_density;
+
+    /// Unit white noise on whitened values equals N(0, C) on the original
+    /// ones up to the constant log det L.
+    #[test]
+    fn whitening_turns_a_covariance_into_unit_noise() {
+        let sim = FnSimulator::new(1, 3, |t: &[f64]| Ok(vec![t[0], 2.0 * t[0], 1.0]));
+        let cov = DMatrix::from_row_slice(3, 3, &[1.0, 0.5, 0.1, 0.5, 2.0, 0.3, 0.1, 0.3, 0.5]);
+        let alpha = 1.3;
+        let y = [0.9, 2.5, 1.2];
+        let map = LinearMap::whitening(sim, cov.clone(), alpha).unwrap();
+        let yw = map.map_observations(&y, alpha);
+        let eta = map.predict(&[0.8]).unwrap().mean;
+        let r: Vec<f64> = yw.iter().zip(&eta).map(|(a, b)| a - b).collect();
+        let white = gaussian_log_density(&r, std::iter::repeat(1.0));
+        let raw: Vec<f64> = [0.8, 1.6, 1.0].iter().zip(&y).map(|(m, y)| y - alpha * m).collect();
+        let chol = cov.clone().cholesky().unwrap();
+        let log_det_l: f64 = (0..3).map(|i| chol.l()[(i, i)].ln()).sum();
+        let full = mvn_log_density(&chol, &raw);
+        assert!((white - log_det_l - full).abs() < 1e-12, "{white} {full}");
     }
 }

@@ -183,7 +183,7 @@ impl Gp {
         let sd = (0..v.ncols())
             .map(|j| {
                 let q: f64 = (0..v.nrows()).map(|i| v[(i, j)] * v[(i, j)]).sum();
-                out.sd * (self.model.kernel.variance + extra - q).max(0.0).sqrt()
+                out.sd * ((self.model.kernel.variance - q).max(0.0) + extra).sqrt()
             })
             .collect();
         Ok(Prediction { mean, sd })
