@@ -152,11 +152,17 @@ fn main() {
         metrics(&mean, &sd, &y)
     };
     println!(
-        "{case} {restarts} {fit_s:.3} {cpu_s:.3} {rmse:.5} {nlpd:.3} {:.3} evals={} jitter={:.1e} lengths={:?} noise={:.3e}",
+        "{case} {restarts} {fit_s:.3} {cpu_s:.3} {rmse:.5} {nlpd:.3} {:.3} evals={} jitter={:.1e} lengths={:?} noise={:.3e} warp={:?}",
         gp.model.report.lml,
         gp.model.report.evaluations,
         gp.model.report.jitter,
         gp.model.kernel.lengths.iter().map(|l| format!("{l:.3}")).collect::<Vec<_>>(),
-        gp.model.noise_var
+        gp.model.noise_var,
+        gp.model
+            .warp
+            .inputs
+            .iter()
+            .map(|w| w.map_or("-".to_string(), |w| format!("{:.3}", w.lambda)))
+            .collect::<Vec<_>>()
     );
 }
