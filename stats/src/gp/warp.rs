@@ -15,6 +15,9 @@ use serde::{Deserialize, Serialize};
 /// |λ| below which the series of w_λ about λ = 0 is used.
 const SMALL_LAMBDA: f64 = 1e-4;
 
+/// Bound on |w| for points whose physical value is not positive.
+const FAR: f64 = 1e6;
+
 /// Power warp of one input: its range ratio and exponent.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PowerWarp {
@@ -25,8 +28,18 @@ pub struct PowerWarp {
 }
 
 impl PowerWarp {
-    /// (w_λ(u), ∂w/∂λ) at the scaled input u.
+    /// (w_λ(u), ∂w/∂λ) at the scaled input u; far outside the range
+    /// (x ≤ 0) w is held finite at ±`FAR`.
     pub fn eval(&self, u: f64) -> (f64, f64) {
+        let (w, dw) = self.eval_raw(u);
+        if w.is_finite() && dw.is_finite() {
+            (w, dw)
+        } else {
+            (if w > 0.0 { FAR } else { -FAR }, 0.0)
+        }
+    }
+
+    fn eval_raw(&self, u: f64) -> (f64, f64) {
         let a = (1.0 + u * (self.ratio - 1.0)).max(f64::MIN_POSITIVE).ln();
         let b = self.ratio.ln();
         let l = self.lambda;
@@ -147,6 +160,17 @@ mod tests {
         let above = PowerWarp { ratio, lambda: SMALL_LAMBDA * (1.0 + 1e-12) }.eval(u);
         assert!((below.0 - above.0).abs() < 1e-13, "{below:?} {above:?}");
         assert!((below.1 - above.1).abs() < 1e-9, "{below:?} {above:?}");
+    }
+
+    #[test]
+    fn finite_for_points_far_outside_the_range() {
+        for lambda in [-2.0, -0.5, 0.0, 1e-5, 0.5, 3.0] {
+            let p = PowerWarp { ratio: 500.0, lambda };
+            for u in [-1.0, -1e-3, 1e3] {
+                let (w, dw) = p.eval(u);
+                assert!(w.is_finite() && dw.is_finite(), "λ {lambda}, u {u}: {w} {dw}");
+            }
+        }
     }
 
     #[test]
