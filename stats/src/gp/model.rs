@@ -57,6 +57,16 @@ pub struct GpModel {
     pub report: FitReport,
 }
 
+/// Prediction points as scaled and as warped, with K(X, x*).
+struct Cross {
+    /// Scaled points, (m, d) row-major.
+    xs: Vec<f64>,
+    /// Warped scaled points, (m, d) row-major.
+    xw: Vec<f64>,
+    /// Cross-covariance with the training points, (n, m).
+    ks: Mat<f64>,
+}
+
 /// A fitted GP ready to predict.
 pub struct Gp {
     /// The model description.
@@ -90,9 +100,9 @@ impl Gp {
     }
 
     /// Scaled points, warped points and the (n, m) cross-covariance K(X, x*).
-    fn cross(&self, x: &[f64]) -> Result<(Vec<f64>, Vec<f64>, Mat<f64>), GpError> {
+    fn cross(&self, x: &[f64]) -> Result<Cross, GpError> {
         let d = self.model.dim;
-        if x.len() % d != 0 {
+        if !x.len().is_multiple_of(d) {
             return Err(GpError::Shape {
                 what: "prediction points",
                 expected: d,
@@ -108,7 +118,7 @@ impl Gp {
         let ks = Mat::<f64>::from_fn(n, m, |i, j| {
             k.eval(&tx[i * d..(i + 1) * d], &xw[j * d..(j + 1) * d])
         });
-        Ok((xs, xw, ks))
+        Ok(Cross { xs, xw, ks })
     }
 
     /// Means in physical units from scaled points and cross-covariance.
@@ -138,7 +148,7 @@ impl Gp {
     /// Predictive mean and sd at the (m, d) physical points; `with_noise`
     /// adds the fitted white-noise variance (prediction of an observation).
     pub fn predict(&self, x: &[f64], with_noise: bool) -> Result<Prediction, GpError> {
-        let (xs, _, ks) = self.cross(x)?;
+        let Cross { xs, ks, .. } = self.cross(x)?;
         let mean = self.means(&xs, &ks);
         let v = self.whitened(ks);
         let out = self.model.output_scaling;
@@ -154,7 +164,7 @@ impl Gp {
 
     /// Predictive mean and full (m, m) latent covariance (physical units).
     pub fn predict_cov(&self, x: &[f64]) -> Result<(Vec<f64>, DMatrix<f64>), GpError> {
-        let (xs, xw, ks) = self.cross(x)?;
+        let Cross { xs, xw, ks } = self.cross(x)?;
         let mean = self.means(&xs, &ks);
         let v = self.whitened(ks);
         let d = self.model.dim;
