@@ -9,6 +9,7 @@
 //! on the rows of the CSV file TEST (same columns as FILE).
 //! Prints one line: `case restarts wall_s cpu_s rmse nlpd lml ...`.
 //! Optional sixth argument: lower bound of the noise variance.
+//! Environment `GP_WARP=0` turns the input warping off.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -79,8 +80,15 @@ fn main() {
         args.get(4).and_then(|k| KernelKind::parse(k)).unwrap_or(KernelKind::SquaredExponential);
     let mean = args.get(5).and_then(|m| MeanKind::parse(m)).unwrap_or(MeanKind::Constant);
     let noise_lo: f64 = args.get(6).map(|v| v.parse().expect("noise floor")).unwrap_or(1e-10);
-    let set =
-        GpSettings { kernel, mean, restarts, noise_bounds: (noise_lo, 10.0), ..Default::default() };
+    let warp = std::env::var("GP_WARP").map_or(true, |v| v != "0");
+    let set = GpSettings {
+        kernel,
+        mean,
+        restarts,
+        noise_bounds: (noise_lo, 10.0),
+        warp,
+        ..Default::default()
+    };
     let d = rows[0].len() - 1;
     let x: Vec<f64> = rows.iter().flat_map(|r| r[..d].to_vec()).collect();
     let y: Vec<f64> = rows.iter().map(|r| r[d]).collect();
@@ -144,11 +152,17 @@ fn main() {
         metrics(&mean, &sd, &y)
     };
     println!(
-        "{case} {restarts} {fit_s:.3} {cpu_s:.3} {rmse:.5} {nlpd:.3} {:.3} evals={} jitter={:.1e} lengths={:?} noise={:.3e}",
+        "{case} {restarts} {fit_s:.3} {cpu_s:.3} {rmse:.5} {nlpd:.3} {:.3} evals={} jitter={:.1e} lengths={:?} noise={:.3e} warp={:?}",
         gp.model.report.lml,
         gp.model.report.evaluations,
         gp.model.report.jitter,
         gp.model.kernel.lengths.iter().map(|l| format!("{l:.3}")).collect::<Vec<_>>(),
-        gp.model.noise_var
+        gp.model.noise_var,
+        gp.model
+            .warp
+            .inputs
+            .iter()
+            .map(|w| w.map_or("-".to_string(), |w| format!("{:.3}", w.lambda)))
+            .collect::<Vec<_>>()
     );
 }

@@ -125,3 +125,54 @@ fn shared_lml_gradient_matches_finite_differences() {
         }
     }
 }
+
+#[test]
+fn warped_lml_gradient_matches_finite_differences() {
+    let d = 3;
+    let (x, y) = data(30, d, 9);
+    // Inputs 0 and 2 warped (ranges spanning 500 and 3), input 1 not.
+    let ratios = [Some(500.0), None, Some(3.0)];
+    let lml = |kind, t: &[f64]| {
+        stats::gp::likelihood::lml_and_grad_warped(kind, &ratios, t, &x, d, &[&y]).unwrap()
+    };
+    for kind in KernelKind::ALL {
+        let nk = kind.n_params(d);
+        let mut theta: Vec<f64> = (0..nk).map(|k| -0.5 + 0.1 * k as f64).collect();
+        theta.extend([0.3, 1.7, -4.0]);
+        let g = lml(kind, &theta).1;
+        for j in 0..theta.len() {
+            let h = 1e-5;
+            let (mut tp, mut tm) = (theta.clone(), theta.clone());
+            tp[j] += h;
+            tm[j] -= h;
+            let fd = (lml(kind, &tp).0 - lml(kind, &tm).0) / (2.0 * h);
+            assert!(
+                (fd - g[j]).abs() < 1e-5 * (1.0 + fd.abs()),
+                "{kind:?} theta[{j}]: {} vs {fd}",
+                g[j]
+            );
+        }
+    }
+}
+
+#[test]
+fn warp_learns_log_scale_of_an_input_spanning_decades() {
+    // y = sin(ln x) on x in [1, 1000]: smooth in ln x, not in x.
+    let n = 40;
+    let x: Vec<f64> = (0..n).map(|i| 10f64.powf(3.0 * i as f64 / (n - 1) as f64)).collect();
+    let y: Vec<f64> = x.iter().map(|v| v.ln().sin()).collect();
+    let scaling = stats::gp::InputScaling { lo: vec![1.0], hi: vec![1000.0] };
+    let xt: Vec<f64> = (0..200).map(|i| 1.0 + 999.0 * (i as f64 + 0.5) / 200.0).collect();
+    let rmse = |warp: bool| {
+        let set = GpSettings { warp, ..Default::default() };
+        let gp = fit(&x, 1, &y, Some(scaling.clone()), &set).unwrap();
+        let p = gp.predict(&xt, false).unwrap();
+        let e = p.mean.iter().zip(&xt).map(|(m, v)| (m - v.ln().sin()).powi(2)).sum::<f64>();
+        ((e / xt.len() as f64).sqrt(), gp.model.warp)
+    };
+    let (warped, warp) = rmse(true);
+    let (plain, _) = rmse(false);
+    let lambda = warp.inputs[0].unwrap().lambda;
+    assert!(lambda.abs() < 0.2, "λ = {lambda} (log scale is 0)");
+    assert!(warped < 1e-3 && warped < 0.1 * plain, "RMSE warped {warped}, plain {plain}");
+}

@@ -5,10 +5,11 @@
 use super::error::GpError;
 use super::kernel::{Kernel, KernelKind};
 use super::lbfgs::{minimise, LbfgsSettings};
-use super::likelihood::{factor, lml_and_grad_shared, lml_from_factor};
+use super::likelihood::{factor, lml_and_grad_warped, lml_from_factor};
 use super::mean::{MeanKind, Trend};
 use super::model::{FitReport, Gp, GpModel};
 use super::scaling::{InputScaling, OutputScaling};
+use super::warp::InputWarp;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
@@ -29,6 +30,11 @@ pub struct GpSettings {
     pub variance_bounds: (f64, f64),
     /// Bounds of the white-noise variance (standardised output).
     pub noise_bounds: (f64, f64),
+    /// Learn a power warp (identity to log scale) of every input whose
+    /// lower bound is positive, with the kernel (see [`InputWarp`]).
+    pub warp: bool,
+    /// Bounds of the warp exponents λ (1 = identity, 0 = log scale).
+    pub warp_bounds: (f64, f64),
     /// Worker threads for the starts (0 = available parallelism).
     pub threads: usize,
     /// Optimiser settings.
@@ -45,6 +51,8 @@ impl Default for GpSettings {
             length_bounds: (1e-3, 1e5),
             variance_bounds: (1e-4, 1e5),
             noise_bounds: (1e-10, 10.0),
+            warp: true,
+            warp_bounds: (-2.0, 3.0),
             threads: 0,
             lbfgs: LbfgsSettings::default(),
         }
@@ -67,11 +75,19 @@ impl GpSettings {
                 });
             }
         }
+        let (lo, hi) = self.warp_bounds;
+        if !(lo.is_finite() && hi.is_finite() && lo <= 1.0 && 1.0 <= hi && lo < hi) {
+            return Err(GpError::Setting {
+                key: "warp_bounds",
+                value: format!("({lo}, {hi})"),
+                expected: "finite lo <= 1 <= hi, lo < hi",
+            });
+        }
         Ok(())
     }
 
-    /// Log-space bounds of θ = [ln l.., ln s², (ln α), ln σ²].
-    fn log_bounds(&self, d: usize) -> (Vec<f64>, Vec<f64>) {
+    /// Bounds of θ = [ln l.., ln s², (ln α), λ.. (nw of them), ln σ²].
+    fn log_bounds(&self, d: usize, nw: usize) -> (Vec<f64>, Vec<f64>) {
         let mut lo = vec![self.length_bounds.0.ln(); d];
         let mut hi = vec![self.length_bounds.1.ln(); d];
         lo.push(self.variance_bounds.0.ln());
@@ -80,19 +96,23 @@ impl GpSettings {
             lo.push(1e-3f64.ln());
             hi.push(1e4f64.ln());
         }
+        lo.extend(std::iter::repeat_n(self.warp_bounds.0, nw));
+        hi.extend(std::iter::repeat_n(self.warp_bounds.1, nw));
         lo.push(self.noise_bounds.0.ln());
         hi.push(self.noise_bounds.1.ln());
         (lo, hi)
     }
 
-    /// Default start then `restarts` scrambled-Sobol' starts in a central box.
-    fn starts(&self, d: usize) -> Vec<Vec<f64>> {
+    /// Default start (no warp: λ = 1) then `restarts` scrambled-Sobol'
+    /// starts in a central box.
+    fn starts(&self, d: usize, nw: usize) -> Vec<Vec<f64>> {
         let rq = self.kernel == KernelKind::RationalQuadratic;
         let mut first = vec![0.5f64.ln(); d];
         first.push(0.0);
         if rq {
             first.push(1.0f64.ln());
         }
+        first.extend(std::iter::repeat_n(1.0, nw));
         first.push(1e-4f64.ln());
         let mut box_lo = vec![0.05f64.ln(); d];
         let mut box_hi = vec![5.0f64.ln(); d];
@@ -102,6 +122,8 @@ impl GpSettings {
             box_lo.push(0.3f64.ln());
             box_hi.push(30.0f64.ln());
         }
+        box_lo.extend(std::iter::repeat_n(self.warp_bounds.0.max(-0.5), nw));
+        box_hi.extend(std::iter::repeat_n(self.warp_bounds.1.min(1.5), nw));
         box_lo.push(1e-8f64.ln());
         box_hi.push(1e-1f64.ln());
         let mut starts = vec![first];
@@ -185,13 +207,16 @@ pub fn fit_shared(
     let xs = scaling.apply(x);
     let prepared: Vec<_> = ys.iter().map(|y| standardise(&xs, d, y, set.mean)).collect();
     let targets: Vec<Vec<f64>> = prepared.iter().map(|p| p.2.clone()).collect();
-    let (theta, report) = optimise(&xs, d, &targets, set)?;
+    let ratios = if set.warp { InputWarp::candidates(&scaling) } else { Vec::new() };
+    let (theta, report) = optimise(&xs, d, &targets, &ratios, set)?;
     let np = theta.len() - 1;
+    let nk = set.kernel.n_params(d);
     prepared
         .into_iter()
         .map(|(trend, out, y)| {
             Gp::from_model(GpModel {
-                kernel: Kernel::from_log(set.kernel, &theta[..np]),
+                kernel: Kernel::from_log(set.kernel, &theta[..nk]),
+                warp: InputWarp::from_parts(&ratios, &theta[nk..np]),
                 noise_var: theta[np].exp(),
                 mean: set.mean,
                 trend,
@@ -211,10 +236,12 @@ fn optimise(
     xs: &[f64],
     d: usize,
     ys: &[Vec<f64>],
+    ratios: &[Option<f64>],
     set: &GpSettings,
 ) -> Result<(Vec<f64>, FitReport), GpError> {
-    let starts = set.starts(d);
-    let (lo, hi) = set.log_bounds(d);
+    let nw = ratios.iter().filter(|r| r.is_some()).count();
+    let starts = set.starts(d, nw);
+    let (lo, hi) = set.log_bounds(d, nw);
     let refs: Vec<&[f64]> = ys.iter().map(|y| y.as_slice()).collect();
     let next = AtomicUsize::new(0);
     let results = Mutex::new(Vec::new());
@@ -232,7 +259,7 @@ fn optimise(
                     break;
                 }
                 let obj = |t: &[f64]| {
-                    lml_and_grad_shared(set.kernel, t, xs, d, &refs)
+                    lml_and_grad_warped(set.kernel, ratios, t, xs, d, &refs)
                         .ok()
                         .map(|(v, g)| (-v, g.into_iter().map(|x| -x).collect()))
                 };
@@ -264,6 +291,7 @@ fn optimise(
 /// Log marginal likelihood of the standardised training data at the
 /// model's hyperparameters.
 pub fn model_lml(model: &GpModel) -> Result<f64, GpError> {
-    let f = factor(&model.kernel, model.noise_var, &model.x, model.dim, &model.y)?;
+    let xw = model.warp.apply(&model.x, model.dim);
+    let f = factor(&model.kernel, model.noise_var, &xw, model.dim, &model.y)?;
     Ok(lml_from_factor(&f, &model.y))
 }

@@ -2,10 +2,12 @@
 //! analytic gradient in log space (Rasmussen and Williams 2006, eq. 2.30
 //! and 5.9): ∂L/∂θ_j = ½ tr((α αᵀ − K⁻¹) ∂K/∂θ_j), with W = α αᵀ − K⁻¹
 //! formed once per evaluation. Cost O(n³ + d n²). The full parameter
-//! vector is θ = [kernel θ.., ln σ²_noise]; inputs x are (n, d) row-major.
+//! vector is θ = [kernel θ.., warp exponents λ.., ln σ²_noise] (no λ when
+//! no input is warped); inputs x are (n, d) row-major.
 
 use super::error::GpError;
 use super::kernel::{Kernel, KernelKind};
+use super::warp::InputWarp;
 use faer::linalg::solvers::{DenseSolveCore, Solve};
 use faer::Mat;
 
@@ -107,8 +109,37 @@ pub fn lml_and_grad_shared(
     d: usize,
     ys: &[&[f64]],
 ) -> Result<(f64, Vec<f64>), GpError> {
+    lml_and_grad_warped(kind, &[], theta, x, d, ys)
+}
+
+/// As [`lml_and_grad_shared`] with inputs power-warped: `ratios` (one per
+/// input, or empty) marks the warped inputs, whose exponents λ follow the
+/// kernel parameters: θ = [kernel θ.., λ.., ln σ²]. With u = Σ_k t_k² / l_k²,
+/// t_k = w_ik − w_jk: ∂K_ij/∂λ_k = −s² h t_k (∂w_ik/∂λ − ∂w_jk/∂λ) / l_k².
+pub fn lml_and_grad_warped(
+    kind: KernelKind,
+    ratios: &[Option<f64>],
+    theta: &[f64],
+    x: &[f64],
+    d: usize,
+    ys: &[&[f64]],
+) -> Result<(f64, Vec<f64>), GpError> {
     let np = theta.len() - 1;
-    let kernel = Kernel::from_log(kind, &theta[..np]);
+    let nw = ratios.iter().filter(|r| r.is_some()).count();
+    let nk = np - nw;
+    let kernel = Kernel::from_log(kind, &theta[..nk]);
+    let warp = InputWarp::from_parts(ratios, &theta[nk..np]);
+    let (x, dw) = warp.apply_with_grad(x, d);
+    let x = x.as_slice();
+    // θ index of each input's exponent.
+    let mut slot = vec![None; d];
+    let mut m = nk;
+    for (k, r) in ratios.iter().take(d).enumerate() {
+        if r.is_some() {
+            slot[k] = Some(m);
+            m += 1;
+        }
+    }
     let noise_var = theta[np].exp();
     let y = ys[0];
     let n = y.len();
@@ -157,6 +188,9 @@ pub fn lml_and_grad_shared(
             for k in 0..d {
                 let t = xi[k] - xj[k];
                 grad[k] += wh * t * t * inv_l2[k];
+                if let Some(m) = slot[k] {
+                    grad[m] -= wh * t * (dw[i * d + k] - dw[j * d + k]) * inv_l2[k];
+                }
             }
             grad[d] += w * g;
             if kind == KernelKind::RationalQuadratic {

@@ -2,7 +2,9 @@
 //! 3/2 and 5/2, rational quadratic) plus white noise, zero/constant/linear
 //! mean, hyperparameters by maximising the log marginal likelihood with
 //! analytic gradients (bounded L-BFGS, parallel multi-start, jitter
-//! escalation), inputs scaled to [0, 1] and outputs standardised.
+//! escalation), inputs scaled to [0, 1] and power-warped (identity to log
+//! scale, learned with the kernel; positive inputs only), outputs
+//! standardised.
 //!
 //! Roles: [`GpSettings`] configure, [`fit`] returns a [`Gp`] whose
 //! [`GpModel`] is serialisable (the model file) and whose `predict`
@@ -26,6 +28,7 @@ pub mod mean;
 pub mod model;
 pub mod pca;
 pub mod scaling;
+pub mod warp;
 
 pub use error::GpError;
 pub use fit::{fit, fit_shared, GpSettings};
@@ -33,3 +36,4 @@ pub use kernel::{Kernel, KernelKind};
 pub use mean::MeanKind;
 pub use model::{FitReport, Gp, GpModel, Prediction};
 pub use scaling::{InputScaling, OutputScaling};
+pub use warp::{InputWarp, PowerWarp};

@@ -7,6 +7,7 @@ use super::kernel::Kernel;
 use super::likelihood::{factor, Factor};
 use super::mean::{MeanKind, Trend};
 use super::scaling::{InputScaling, OutputScaling};
+use super::warp::InputWarp;
 use faer::Mat;
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -33,6 +34,9 @@ pub struct FitReport {
 pub struct GpModel {
     /// Kernel with fitted hyperparameters.
     pub kernel: Kernel,
+    /// Input warps applied to the scaled inputs before the kernel.
+    #[serde(default)]
+    pub warp: InputWarp,
     /// White-noise variance (standardised output units).
     pub noise_var: f64,
     /// Prior mean kind.
@@ -43,7 +47,7 @@ pub struct GpModel {
     pub input_scaling: InputScaling,
     /// Output standardisation of the residual.
     pub output_scaling: OutputScaling,
-    /// Scaled training inputs, (n, d) row-major.
+    /// Scaled (unwarped) training inputs, (n, d) row-major.
     pub x: Vec<f64>,
     /// Standardised training residuals, (n).
     pub y: Vec<f64>,
@@ -53,10 +57,22 @@ pub struct GpModel {
     pub report: FitReport,
 }
 
+/// Prediction points as scaled and as warped, with K(X, x*).
+struct Cross {
+    /// Scaled points, (m, d) row-major.
+    xs: Vec<f64>,
+    /// Warped scaled points, (m, d) row-major.
+    xw: Vec<f64>,
+    /// Cross-covariance with the training points, (n, m).
+    ks: Mat<f64>,
+}
+
 /// A fitted GP ready to predict.
 pub struct Gp {
     /// The model description.
     pub model: GpModel,
+    /// Warped scaled training inputs (the kernel's coordinates).
+    xw: Vec<f64>,
     factor: Factor,
 }
 
@@ -72,9 +88,10 @@ pub struct Prediction {
 impl Gp {
     /// Factor the covariance of a model description.
     pub fn from_model(mut model: GpModel) -> Result<Self, GpError> {
-        let factor = factor(&model.kernel, model.noise_var, &model.x, model.dim, &model.y)?;
+        let xw = model.warp.apply(&model.x, model.dim);
+        let factor = factor(&model.kernel, model.noise_var, &xw, model.dim, &model.y)?;
         model.report.jitter = factor.jitter;
-        Ok(Gp { model, factor })
+        Ok(Gp { model, xw, factor })
     }
 
     /// Number of training points.
@@ -82,10 +99,10 @@ impl Gp {
         self.model.y.len()
     }
 
-    /// Scaled points and the (n, m) cross-covariance K(X, x*).
-    fn cross(&self, x: &[f64]) -> Result<(Vec<f64>, Mat<f64>), GpError> {
+    /// Scaled points, warped points and the (n, m) cross-covariance K(X, x*).
+    fn cross(&self, x: &[f64]) -> Result<Cross, GpError> {
         let d = self.model.dim;
-        if x.len() % d != 0 {
+        if !x.len().is_multiple_of(d) {
             return Err(GpError::Shape {
                 what: "prediction points",
                 expected: d,
@@ -93,14 +110,15 @@ impl Gp {
             });
         }
         let xs = self.model.input_scaling.apply(x);
+        let xw = self.model.warp.apply(&xs, d);
         let m = xs.len() / d;
         let n = self.n_train();
-        let tx = &self.model.x;
+        let tx = &self.xw;
         let k = &self.model.kernel;
         let ks = Mat::<f64>::from_fn(n, m, |i, j| {
-            k.eval(&tx[i * d..(i + 1) * d], &xs[j * d..(j + 1) * d])
+            k.eval(&tx[i * d..(i + 1) * d], &xw[j * d..(j + 1) * d])
         });
-        Ok((xs, ks))
+        Ok(Cross { xs, xw, ks })
     }
 
     /// Means in physical units from scaled points and cross-covariance.
@@ -175,7 +193,7 @@ impl Gp {
     /// Predictive mean and sd at the (m, d) physical points; `with_noise`
     /// adds the fitted white-noise variance (prediction of an observation).
     pub fn predict(&self, x: &[f64], with_noise: bool) -> Result<Prediction, GpError> {
-        let (xs, ks) = self.cross(x)?;
+        let Cross { xs, ks, .. } = self.cross(x)?;
         let mean = self.means(&xs, &ks);
         let v = self.whitened(ks);
         let out = self.model.output_scaling;
@@ -191,7 +209,7 @@ impl Gp {
 
     /// Predictive mean and full (m, m) latent covariance (physical units).
     pub fn predict_cov(&self, x: &[f64]) -> Result<(Vec<f64>, DMatrix<f64>), GpError> {
-        let (xs, ks) = self.cross(x)?;
+        let Cross { xs, xw, ks } = self.cross(x)?;
         let mean = self.means(&xs, &ks);
         let v = self.whitened(ks);
         let d = self.model.dim;
@@ -199,7 +217,7 @@ impl Gp {
         let s2 = self.model.output_scaling.sd.powi(2);
         let k = &self.model.kernel;
         let cov = DMatrix::from_fn(m, m, |a, b| {
-            let prior = k.eval(&xs[a * d..(a + 1) * d], &xs[b * d..(b + 1) * d]);
+            let prior = k.eval(&xw[a * d..(a + 1) * d], &xw[b * d..(b + 1) * d]);
             let q: f64 = (0..v.nrows()).map(|i| v[(i, a)] * v[(i, b)]).sum();
             s2 * (prior - q)
         });
