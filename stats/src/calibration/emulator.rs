@@ -108,6 +108,7 @@ impl Simulator for GpEmulator {
 mod tests {
     use super::*;
     use crate::gp::mean::Trend;
+    use crate::gp::warp::InputWarp;
     use crate::gp::{
         fit, FitReport, GpModel, GpSettings, InputScaling, Kernel, KernelKind, MeanKind,
         OutputScaling,
@@ -142,7 +143,7 @@ mod tests {
 
     /// A GP with set hyperparameters and noise (well conditioned, so that
     /// central differences are accurate).
-    fn noisy_gp(kind: KernelKind, trend: Option<Trend>) -> Gp {
+    fn noisy_gp(kind: KernelKind, trend: Option<Trend>, warp: InputWarp) -> Gp {
         let x: Vec<f64> = (0..40)
             .flat_map(|i| [((i * 7) % 40) as f64 / 39.0, ((i * 13) % 40) as f64 / 39.0])
             .collect();
@@ -152,7 +153,8 @@ mod tests {
             noise_var: 0.01,
             mean: if trend.is_some() { MeanKind::Linear } else { MeanKind::Constant },
             trend,
-            input_scaling: InputScaling { lo: vec![0.0, -1.0], hi: vec![2.0, 3.0] },
+            input_scaling: InputScaling { lo: vec![0.2, 1.0], hi: vec![2.0, 3.0] },
+            warp,
             output_scaling: OutputScaling { mean: 8.0, sd: 0.7 },
             x,
             y,
@@ -174,8 +176,14 @@ mod tests {
         let kinds =
             [KernelKind::SquaredExponential, KernelKind::Matern52, KernelKind::RationalQuadratic];
         for kind in kinds {
-            for trend in [None, Some(Trend { beta: vec![0.2, -0.4, 0.9] })] {
-                let emu = GpEmulator::new(vec![noisy_gp(kind, trend.clone())], false).unwrap();
+            let warped = InputWarp::from_parts(&[Some(10.0), Some(3.0)], &[0.3, 1.7]);
+            let cases = [
+                (None, InputWarp::default()),
+                (Some(Trend { beta: vec![0.2, -0.4, 0.9] }), InputWarp::default()),
+                (None, warped),
+            ];
+            for (trend, warp) in cases {
+                let emu = GpEmulator::new(vec![noisy_gp(kind, trend, warp)], false).unwrap();
                 let t = [0.83, 0.61];
                 let (p, j) = emu.jacobian(&t).unwrap().unwrap();
                 let pm = emu.predict(&t).unwrap().mean[0];

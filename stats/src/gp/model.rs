@@ -152,8 +152,8 @@ impl Gp {
         let block = 512 * self.model.dim.max(1);
         let mut out = Vec::with_capacity(x.len() / self.model.dim.max(1));
         for chunk in x.chunks(block) {
-            let (xs, ks) = self.cross(chunk)?;
-            out.extend(self.means(&xs, &ks));
+            let c = self.cross(chunk)?;
+            out.extend(self.means(&c.xs, &c.ks));
         }
         Ok(out)
     }
@@ -166,15 +166,16 @@ impl Gp {
             return Err(GpError::Shape { what: "prediction point", expected: d, found: x.len() });
         }
         let xs = self.model.input_scaling.apply(x);
+        let xw = self.model.warp.apply(&xs, d);
         let k = &self.model.kernel;
         let (mut f, mut g) = (0.0, vec![0.0; d]);
-        for (i, row) in self.model.x.chunks(d).enumerate() {
-            let (shape, minus_2_dg, _) = k.shape(k.scaled_dist2(row, &xs));
+        for (i, row) in self.xw.chunks(d).enumerate() {
+            let (shape, minus_2_dg, _) = k.shape(k.scaled_dist2(row, &xw));
             f += k.variance * shape * self.factor.alpha[i];
             let a = self.factor.alpha[i] * k.variance;
             for j in 0..d {
                 let l = k.lengths[j];
-                g[j] -= a * minus_2_dg * (xs[j] - row[j]) / (l * l);
+                g[j] -= a * minus_2_dg * (xw[j] - row[j]) / (l * l);
             }
         }
         let out = self.model.output_scaling;
@@ -184,7 +185,8 @@ impl Gp {
         let grad = (0..d)
             .map(|j| {
                 let slope = trend.map_or(0.0, |t| t.beta[j + 1]);
-                (slope + out.sd * g[j]) / (sc.hi[j] - sc.lo[j])
+                let dw = self.model.warp.slope(j, xs[j]);
+                (slope + out.sd * g[j] * dw) / (sc.hi[j] - sc.lo[j])
             })
             .collect();
         Ok((mean, grad))

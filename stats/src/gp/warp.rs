@@ -39,6 +39,20 @@ impl PowerWarp {
         }
     }
 
+    /// dw/du at the scaled input u (0 where w is held at ±`FAR`).
+    pub fn slope(&self, u: f64) -> f64 {
+        let base = 1.0 + u * (self.ratio - 1.0);
+        let b = self.ratio.ln();
+        let l = self.lambda;
+        let c = if l == 0.0 { 1.0 / b } else { l / (l * b).exp_m1() };
+        let s = (self.ratio - 1.0) * base.powf(l - 1.0) * c;
+        if s.is_finite() && base > 0.0 {
+            s
+        } else {
+            0.0
+        }
+    }
+
     fn eval_raw(&self, u: f64) -> (f64, f64) {
         let a = (1.0 + u * (self.ratio - 1.0)).max(f64::MIN_POSITIVE).ln();
         let b = self.ratio.ln();
@@ -101,6 +115,14 @@ impl InputWarp {
         self.apply_with_grad(xs, d).0
     }
 
+    /// dw/du of input `k` at the scaled value u (1 when it is not warped).
+    pub fn slope(&self, k: usize, u: f64) -> f64 {
+        match self.inputs.get(k) {
+            Some(Some(p)) => p.slope(u),
+            _ => 1.0,
+        }
+    }
+
     /// Warped points and ∂w/∂λ at each (0 for inputs that are not warped).
     pub fn apply_with_grad(&self, xs: &[f64], d: usize) -> (Vec<f64>, Vec<f64>) {
         let mut w = xs.to_vec();
@@ -142,6 +164,28 @@ mod tests {
             let fd = (at(lambda + h) - at(lambda - h)) / (2.0 * h);
             let dw = PowerWarp { ratio, lambda }.eval(u).1;
             prop_assert!((fd - dw).abs() < 1e-6 * (1.0 + dw.abs()), "fd {} vs {}", fd, dw);
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn slope_matches_finite_difference(
+            ratio in 1.1..1e3f64, lambda in -2.0..3.0f64, u in 0.01..0.99f64
+        ) {
+            let p = PowerWarp { ratio, lambda };
+            let h = 1e-6;
+            let fd = (p.eval(u + h).0 - p.eval(u - h).0) / (2.0 * h);
+            prop_assert!((fd - p.slope(u)).abs() < 1e-5 * (1.0 + fd.abs()), "fd {} vs {}", fd, p.slope(u));
+        }
+    }
+
+    #[test]
+    fn slope_at_lambda_zero_is_the_log_scale_slope() {
+        let (ratio, u) = (500.0f64, 0.3);
+        let want = (ratio - 1.0) / ((1.0 + u * (ratio - 1.0)) * ratio.ln());
+        for lambda in [0.0, 1e-9, -1e-9] {
+            let got = PowerWarp { ratio, lambda }.slope(u);
+            assert!((got - want).abs() < 1e-6 * want, "{lambda}: {got} vs {want}");
         }
     }
 
