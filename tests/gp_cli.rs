@@ -22,7 +22,7 @@ fn fit_then_predict_borehole_200() {
     ceilfarm_ok(&["gp", "fit", s(&train), "--inputs", NAMES, "--outputs", "y", "--out", s(&model)]);
     let m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
-    assert_eq!(m["format"], "ceilfarm-gp/1");
+    assert_eq!(m["format"], "ceilfarm-gp/2");
     assert_eq!(m["outputs"][0]["gp"]["kernel"]["kind"], "squared-exponential");
     assert_eq!(m["training_sha256"].as_str().unwrap().len(), 64);
 

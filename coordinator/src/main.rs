@@ -44,6 +44,8 @@ enum Command {
     /// Gaussian-process emulators: fit to a dataset, predict at points.
     #[command(subcommand)]
     Gp(commands::gp::GpCommand),
+    /// The seed's chapter 6 end to end: sweep, emulators, Sobol' screening, KOH + BBVI, MDL.
+    Pipeline(commands::pipeline::Args),
     /// Sobol' sensitivity indices of a function or a GP emulator of a dataset.
     Sobol(commands::sobol::Args),
     /// Synthesise a small campaign with a hidden effect and diagnose it (about a minute).
@@ -78,6 +80,7 @@ fn main() -> std::process::ExitCode {
         Command::Fe(c) => commands::fe::run(c),
         Command::Worker(a) => commands::worker::run(a),
         Command::Calibrate(a) => commands::calibrate::run(a),
+        Command::Pipeline(a) => commands::pipeline::run(a),
         Command::Select(a) => commands::select::run(a),
         Command::Gp(c) => commands::gp::run(c),
         Command::Sobol(a) => commands::sobol::run(a),

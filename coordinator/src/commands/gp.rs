@@ -10,7 +10,10 @@ use stats::gp::{fit, Gp, GpModel, GpSettings, KernelKind, MeanKind};
 use std::path::{Path, PathBuf};
 
 /// Model-file format tag.
-pub const MODEL_FORMAT: &str = "ceilfarm-gp/1";
+pub const MODEL_FORMAT: &str = "ceilfarm-gp/2";
+
+/// Older format still read: the same without input warps (identity).
+const MODEL_FORMAT_V1: &str = "ceilfarm-gp/1";
 
 /// `ceilfarm gp ...` subcommands.
 #[derive(clap::Subcommand, Debug)]
@@ -53,6 +56,9 @@ pub struct FitArgs {
     /// One kernel shared by all outputs (rows complete in every output).
     #[arg(long)]
     pub shared_kernel: bool,
+    /// Do not learn power warps of the inputs with a positive range.
+    #[arg(long)]
+    pub no_warp: bool,
 }
 
 /// Arguments of `ceilfarm gp predict`.
@@ -168,7 +174,8 @@ pub fn store_table(path: &Path) -> anyhow::Result<Table> {
     Ok(Table { names, rows })
 }
 
-fn sha256(x: &[f64], y: &[f64]) -> String {
+/// SHA-256 of training inputs then outputs (little-endian f64s).
+pub fn sha256(x: &[f64], y: &[f64]) -> String {
     let mut h = Sha256::new();
     for v in x.iter().chain(y) {
         h.update(v.to_le_bytes());
@@ -257,7 +264,13 @@ fn fit_cmd(a: FitArgs) -> anyhow::Result<()> {
         let y: Vec<f64> = keep.iter().map(|&i| yall[i]).collect();
         cols.push((name.clone(), x, y));
     }
-    let base = GpSettings { mean, restarts: a.restarts, seed: a.seed, ..Default::default() };
+    let base = GpSettings {
+        mean,
+        restarts: a.restarts,
+        seed: a.seed,
+        warp: !a.no_warp,
+        ..Default::default()
+    };
     let outputs = if a.shared_kernel {
         fit_all_shared(&cols, d, &a.kernel, &base)?
     } else {
@@ -274,13 +287,20 @@ fn fit_cmd(a: FitArgs) -> anyhow::Result<()> {
     };
     for o in &file.outputs {
         let g = &o.gp;
+        let warps: Vec<String> = g
+            .warp
+            .inputs
+            .iter()
+            .map(|w| w.map_or("-".into(), |p| format!("{:.2}", p.lambda)))
+            .collect();
         eprintln!(
-            "{}: kernel {} lml {:.3} noise var {:.3e} lengths [{}] ({} starts, {} evaluations)",
+            "{}: kernel {} lml {:.3} noise var {:.3e} lengths [{}] warp exponents [{}] ({} starts, {} evaluations)",
             o.name,
             g.kernel.kind.name(),
             g.report.lml,
             g.noise_var,
             g.kernel.lengths.iter().map(|l| format!("{l:.3}")).collect::<Vec<_>>().join(", "),
+            warps.join(", "),
             g.report.starts,
             g.report.evaluations
         );
@@ -364,8 +384,12 @@ pub fn load_model(path: &Path) -> anyhow::Result<(ModelFile, Vec<Gp>)> {
         .with_context(|| format!("{}: cannot read", path.display()))?;
     let file: ModelFile = serde_json::from_str(&text)
         .with_context(|| format!("{}: not a GP model file", path.display()))?;
-    if file.format != MODEL_FORMAT {
-        bail!("{}: format {:?}, expected {MODEL_FORMAT:?}", path.display(), file.format);
+    if file.format != MODEL_FORMAT && file.format != MODEL_FORMAT_V1 {
+        bail!(
+            "{}: format {:?}, expected {MODEL_FORMAT:?} (or {MODEL_FORMAT_V1:?})",
+            path.display(),
+            file.format
+        );
     }
     let gps = file
         .outputs

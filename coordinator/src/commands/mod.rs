@@ -6,6 +6,7 @@ pub mod demo;
 pub mod diagnose;
 pub mod fe;
 pub mod gp;
+pub mod pipeline;
 pub mod select;
 pub mod sobol;
 pub mod sweep;

@@ -143,14 +143,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// The criteria table as CSV (free parameters space-separated).
-fn criteria_csv(t: &SelectionTable) -> String {
+/// The criteria table as CSV, one row per candidate.
+pub fn criteria_csv(t: &SelectionTable) -> String {
     let mut s = String::from(
-        "name,free_parameters,neg_log_likelihood,aic,bic,dic,icomp,mdl,log_fisher_integral,log_fisher_integral_se,gr_percent\n",
+        "name,free_parameters,neg_log_likelihood,aic,bic,dic,icomp,mdl,log_fisher_integral,log_fisher_integral_se,gr_percent,identifiable\n",
     );
     for c in &t.candidates {
         let gr = c.gr_percent.map_or(String::new(), |g| format!("{g:.4}"));
         s += &format!(
-            "{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{gr}\n",
+            "{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{gr},{}\n",
             c.name,
             c.free_parameters.join(" "),
             c.neg_log_likelihood,
@@ -160,7 +161,8 @@ fn criteria_csv(t: &SelectionTable) -> String {
             c.icomp,
             c.mdl,
             c.log_fisher_integral,
-            c.log_fisher_integral_se
+            c.log_fisher_integral_se,
+            c.identifiable
         );
     }
     s
