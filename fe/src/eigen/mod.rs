@@ -1,6 +1,6 @@
 //! Generalized eigenproblem K φ = ω² M φ on the free DOFs, lowest modes:
-//! sparse block shift-invert Lanczos ([`lanczos`]) on a faer sparse factorization
-//! of K − σM, a dense statically condensed solver for tests ([`dense`]), and
+//! sparse block shift-invert Lanczos ([`lanczos`]) on a supernodal Cholesky
+//! factorization of K − σM in mass-scaled coordinates ([`shift_invert`]), a dense statically condensed solver for tests ([`dense`]), and
 //! the modal quantities of a model ([`modal`]: frequencies, mass-normalised
 //! shapes, participation factors, effective masses).
 //!
@@ -15,6 +15,7 @@ pub mod lanczos;
 pub mod modal;
 pub mod output;
 pub mod plot;
+pub mod shift_invert;
 
 pub use dense::dense_eigen;
 pub use lanczos::{shift_invert_lanczos, LanczosSettings};
