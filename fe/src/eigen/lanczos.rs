@@ -24,10 +24,12 @@
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
 
-use super::shift_invert::ScaledShiftInvert;
+use super::factor::SparseFactor;
+use super::ordering::node_block_amd;
+use super::shift_invert::{ScaledShiftInvert, ShiftedFactor};
+use super::supernodal::SupernodalCholesky;
 use super::{EigenError, Eigenpairs};
 use crate::assembly::SparsePattern;
-use crate::transient::factor_cache::{CholeskyLayout, FactorCache, TangentFactor};
 
 /// Settings of the Lanczos solver.
 #[derive(Debug, Clone, Copy)]
@@ -114,16 +116,19 @@ fn shifted_factor(
     k_values: &[f64],
     mass: &[f64],
     shift: f64,
-) -> Result<TangentFactor, EigenError> {
+) -> Result<ShiftedFactor, EigenError> {
     let mut a = k_values.to_vec();
     for (c, m) in mass.iter().enumerate() {
         if let Some(p) = pattern.position(c, c) {
             a[p] -= shift * m;
         }
     }
-    FactorCache::new(pattern, CholeskyLayout::Supernodal)
-        .factor(pattern, &a)
-        .map_err(|message| EigenError::Singular { shift, message })
+    match SupernodalCholesky::new(pattern, &a, &node_block_amd(pattern)) {
+        Ok(l) => Ok(ShiftedFactor::Cholesky(l)),
+        Err(_) => SparseFactor::new(pattern, &a)
+            .map(ShiftedFactor::General)
+            .map_err(|message| EigenError::Singular { shift, message }),
+    }
 }
 
 /// Columns of one length, appended in place (amortised growth).

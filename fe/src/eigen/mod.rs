@@ -13,9 +13,11 @@ pub mod dense;
 pub mod factor;
 pub mod lanczos;
 pub mod modal;
+pub mod ordering;
 pub mod output;
 pub mod plot;
 pub mod shift_invert;
+pub mod supernodal;
 
 pub use dense::dense_eigen;
 pub use lanczos::{shift_invert_lanczos, LanczosSettings};

@@ -6,32 +6,38 @@
 //! DOFs, (K − σM)⁻¹ M½ x, statically condensed onto the massless ones.
 //! Units: masses in t (or t·mm²), σ in rad²/s².
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::LltRef;
-use faer::{Conj, MatMut, MatRef, Par};
+use faer::{MatMut, MatRef};
 
-use crate::transient::factor_cache::TangentFactor;
+use super::factor::SparseFactor;
+use super::supernodal::SupernodalCholesky;
+
+/// A factorized K − σM.
+pub enum ShiftedFactor {
+    /// Supernodal LLᵀ (σ below the lowest eigenvalue).
+    Cholesky(SupernodalCholesky),
+    /// LU of an indefinite K − σM.
+    General(SparseFactor),
+}
 
 /// (K − σM)⁻¹ acting on mass-scaled vectors.
 pub struct ScaledShiftInvert<'a> {
-    factor: &'a TangentFactor,
-    /// Scratch of the supernodal solves, and the column count it is for.
-    scratch: (MemBuffer, usize),
+    factor: &'a ShiftedFactor,
     /// Equations with positive mass, ascending.
     massed: Vec<usize>,
     /// √m of each massed equation.
     sqrt_mass: Vec<f64>,
+    /// Interleaved right-hand sides of the Cholesky substitutions.
+    work: Vec<f64>,
     /// Number of equations.
     n: usize,
 }
 
 impl<'a> ScaledShiftInvert<'a> {
     /// The operator of a factorized K − σM and the mass diagonal.
-    pub fn new(factor: &'a TangentFactor, mass: &[f64]) -> Self {
+    pub fn new(factor: &'a ShiftedFactor, mass: &[f64]) -> Self {
         let massed: Vec<usize> = (0..mass.len()).filter(|&i| mass[i] > 0.0).collect();
         let sqrt_mass = massed.iter().map(|&i| mass[i].sqrt()).collect();
-        let scratch = (MemBuffer::new(faer::dyn_stack::StackReq::EMPTY), 0);
-        ScaledShiftInvert { factor, scratch, massed, sqrt_mass, n: mass.len() }
+        ScaledShiftInvert { factor, massed, sqrt_mass, work: Vec::new(), n: mass.len() }
     }
 
     /// Number of massed DOFs (the dimension of the scaled space).
@@ -53,14 +59,33 @@ impl<'a> ScaledShiftInvert<'a> {
         mut full: MatMut<'_, f64>,
         mut scaled: MatMut<'_, f64>,
     ) {
-        full.fill(0.0);
-        for j in 0..x.ncols() {
-            let mut col = full.as_mut().col_mut(j);
-            for (k, (&e, s)) in self.massed.iter().zip(&self.sqrt_mass).enumerate() {
-                col[e] = s * x[(k, j)];
+        match self.factor {
+            ShiftedFactor::Cholesky(f) => {
+                // Up to four right-hand sides per substitution.
+                let mut j0 = 0;
+                while j0 < x.ncols() {
+                    let k = (x.ncols() - j0).min(4);
+                    let (xs, fs) = (x.subcols(j0, k), full.as_mut().subcols_mut(j0, k));
+                    match k {
+                        1 => self.cholesky_apply::<1>(f, xs, fs),
+                        2 => self.cholesky_apply::<2>(f, xs, fs),
+                        3 => self.cholesky_apply::<3>(f, xs, fs),
+                        _ => self.cholesky_apply::<4>(f, xs, fs),
+                    }
+                    j0 += k;
+                }
+            }
+            ShiftedFactor::General(f) => {
+                full.fill(0.0);
+                for j in 0..x.ncols() {
+                    let mut col = full.as_mut().col_mut(j);
+                    for (k, (&e, s)) in self.massed.iter().zip(&self.sqrt_mass).enumerate() {
+                        col[e] = s * x[(k, j)];
+                    }
+                }
+                f.solve_mat_in_place(full.as_mut());
             }
         }
-        self.solve(full.as_mut());
         for j in 0..x.ncols() {
             let col = full.as_ref().col(j);
             let mut out = scaled.as_mut().col_mut(j);
@@ -70,22 +95,28 @@ impl<'a> ScaledShiftInvert<'a> {
         }
     }
 
-    /// Overwrites each column of `x` with (K − σM)⁻¹ x.
-    fn solve(&mut self, mut x: MatMut<'_, f64>) {
-        match self.factor {
-            TangentFactor::Cholesky { symbolic, values } => {
-                if self.scratch.1 != x.ncols() {
-                    let req = symbolic.solve_in_place_scratch::<f64>(x.ncols(), Par::Seq);
-                    self.scratch = (MemBuffer::new(req), x.ncols());
-                }
-                LltRef::new(symbolic, values).solve_in_place_with_conj(
-                    Conj::No,
-                    x.as_mut(),
-                    Par::Seq,
-                    MemStack::new(&mut self.scratch.0),
-                );
+    /// `full` = (K − σM)⁻¹ M½ x for K columns, by one interleaved substitution.
+    fn cholesky_apply<const K: usize>(
+        &mut self,
+        f: &SupernodalCholesky,
+        x: MatRef<'_, f64>,
+        mut full: MatMut<'_, f64>,
+    ) {
+        self.work.clear();
+        self.work.resize(K * self.n, 0.0);
+        let y = &mut self.work;
+        for (k, (&e, s)) in self.massed.iter().zip(&self.sqrt_mass).enumerate() {
+            let at = K * f.position(e);
+            for j in 0..K {
+                y[at + j] = s * x[(k, j)];
             }
-            TangentFactor::General(f) => f.solve_mat_in_place(x),
+        }
+        f.solve_interleaved::<K>(y);
+        for j in 0..K {
+            let mut col = full.as_mut().col_mut(j);
+            for e in 0..self.n {
+                col[e] = y[K * f.position(e) + j];
+            }
         }
     }
 }
