@@ -188,6 +188,8 @@ struct Basis {
     len: usize,
     /// Columns added by the last block.
     last_block: usize,
+    /// Qᵀ (images of the last block), H's last columns.
+    last_coeffs: Mat<f64>,
 }
 
 impl Basis {
@@ -199,6 +201,7 @@ impl Basis {
             h: Mat::zeros(0, 0),
             len: 0,
             last_block: 0,
+            last_coeffs: Mat::zeros(0, 0),
         }
     }
 
@@ -241,14 +244,19 @@ impl Basis {
         }
     }
 
-    /// Images of the last block, projected against the basis, with their
-    /// norms before the projection.
+    /// Images of the last block, projected twice against the basis (the
+    /// first coefficients are H's last columns), with their norms before
+    /// the projection.
     fn projected_last_images(&self) -> (Mat<f64>, Vec<f64>) {
         let z = self.z.view();
         let last = z.ncols() - self.last_block;
         let mut w = z.subcols(last, self.last_block).to_owned();
         let before = (0..w.ncols()).map(|j| w.col(j).norm_l2()).collect();
-        self.project(w.as_mut());
+        let q = self.q.view();
+        matmul(w.as_mut(), Accum::Add, q, self.last_coeffs.as_ref(), -1.0, Par::Seq);
+        let mut c = Mat::zeros(self.len, w.ncols());
+        matmul(c.as_mut(), Accum::Replace, q.transpose(), w.as_ref(), 1.0, Par::Seq);
+        matmul(w.as_mut(), Accum::Add, q, c.as_ref(), -1.0, Par::Seq);
         (w, before)
     }
 
@@ -287,18 +295,21 @@ impl Basis {
         self.last_block = k;
         let m = self.len;
         let (q, z) = (self.q.view(), self.z.view());
-        // New columns Qᵀ z_new and rows q_newᵀ Z (symmetric in exact arithmetic).
+        // New columns of H, Qᵀ z_new; the rows mirror them (H is symmetric in
+        // exact arithmetic). They are also the first Gram-Schmidt
+        // coefficients of the next block, z_new.
         let mut cols = Mat::zeros(m, k);
         matmul(cols.as_mut(), Accum::Replace, q.transpose(), z.subcols(m0, k), 1.0, Par::Seq);
-        let mut rows = Mat::zeros(m, k);
-        matmul(rows.as_mut(), Accum::Replace, z.transpose(), q.subcols(m0, k), 1.0, Par::Seq);
         self.h.resize_with(m, m, |_, _| 0.0);
         for j in 0..k {
             for r in 0..m {
                 self.h[(r, m0 + j)] = cols[(r, j)];
-                self.h[(m0 + j, r)] = rows[(r, j)];
+                if r < m0 {
+                    self.h[(m0 + j, r)] = cols[(r, j)];
+                }
             }
         }
+        self.last_coeffs = cols;
     }
 
     /// The `n` Ritz pairs of largest θ (`None` if H holds non-finite values).

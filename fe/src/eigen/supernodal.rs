@@ -188,7 +188,9 @@ fn backward<const K: usize>(
         let (b, w, pattern, v) = supernode(l, values, s);
         let m = w + pattern.len();
         g.clear();
-        g.extend(pattern.iter().flat_map(|row| y[row * K..(row + 1) * K].iter().copied()));
+        for row in pattern {
+            g.extend_from_slice(&y[row * K..(row + 1) * K]);
+        }
         let ys = &mut y[b * K..(b + w) * K];
         for c in 0..w {
             let d = dot_interleaved::<K>(&v[c * m + w..(c + 1) * m], &g);
