@@ -139,4 +139,31 @@ mod tests {
             assert!(g[w[0]] != g[w[1]] || w[1] == w[0] + 1, "group split: {:?}", o.fwd);
         }
     }
+
+    proptest::proptest! {
+        /// On random patterns the ordering is a permutation with its inverse,
+        /// and every group occupies consecutive positions in equation order.
+        #[test]
+        fn random_patterns_give_group_preserving_permutations(
+            n in 1usize..50,
+            elems in proptest::collection::vec(proptest::collection::vec(0usize..50, 1..13), 0..40),
+        ) {
+            let lists: Vec<Vec<Option<usize>>> =
+                elems.iter().map(|e| e.iter().map(|i| Some(i % n)).collect()).collect();
+            let p = SparsePattern::from_elements(n, lists.iter().map(|e| &e[..]));
+            let o = node_block_amd(&p);
+            let mut seen = o.fwd.clone();
+            seen.sort_unstable();
+            proptest::prop_assert_eq!(seen, (0..n).collect::<Vec<_>>());
+            for (i, &e) in o.fwd.iter().enumerate() {
+                proptest::prop_assert_eq!(o.inv[e], i);
+            }
+            let (g, _) = equation_groups(&p);
+            for e in 1..n {
+                if g[e] == g[e - 1] {
+                    proptest::prop_assert_eq!(o.inv[e], o.inv[e - 1] + 1);
+                }
+            }
+        }
+    }
 }

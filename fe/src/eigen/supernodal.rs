@@ -309,4 +309,69 @@ mod tests {
         let r = SupernodalCholesky::new(&p, &v, &node_block_amd(&p));
         assert!(matches!(r, Err(CholeskyError::NotPositiveDefinite)));
     }
+
+    /// A random symmetric, strictly diagonally dominant (so positive
+    /// definite) matrix on the pattern of random element lists.
+    fn random_spd(n: usize, elems: &[Vec<usize>], weights: &[f64]) -> (SparsePattern, Vec<f64>) {
+        let lists: Vec<Vec<Option<usize>>> =
+            elems.iter().map(|e| e.iter().map(|i| Some(i % n)).collect()).collect();
+        let p = SparsePattern::from_elements(n, lists.iter().map(|e| &e[..]));
+        let mut v = vec![0.0; p.nnz()];
+        let mut k = 0;
+        for c in 0..n {
+            for q in p.col_ptr[c]..p.col_ptr[c + 1] {
+                let r = p.row_idx[q];
+                if r < c {
+                    let w = weights[k % weights.len()];
+                    k += 1;
+                    v[q] = w;
+                    v[p.position(c, r).unwrap()] = w;
+                    v[p.position(r, r).unwrap()] += w.abs();
+                    v[p.position(c, c).unwrap()] += w.abs();
+                }
+            }
+        }
+        for c in 0..n {
+            v[p.position(c, c).unwrap()] += 0.1;
+        }
+        (p, v)
+    }
+
+    proptest::proptest! {
+        /// A x = b to round-off for 1, 2 and 3 interleaved right-hand sides
+        /// on random sparse SPD matrices (random fill-in and supernodes).
+        #[test]
+        fn random_spd_systems_are_solved(
+            n in 1usize..40,
+            elems in proptest::collection::vec(proptest::collection::vec(0usize..40, 1..7), 0..30),
+            weights in proptest::collection::vec(-2.0..2.0f64, 1..20),
+            b in proptest::collection::vec(-1.0..1.0f64, 120),
+        ) {
+            let (p, v) = random_spd(n, &elems, &weights);
+            let f = SupernodalCholesky::new(&p, &v, &node_block_amd(&p)).unwrap();
+            for k in 1..=3usize {
+                let mut y = vec![0.0; k * n];
+                for i in 0..n {
+                    for j in 0..k {
+                        y[k * f.position(i) + j] = b[j * 40 + i];
+                    }
+                }
+                match k {
+                    1 => f.solve_interleaved::<1>(&mut y),
+                    2 => f.solve_interleaved::<2>(&mut y),
+                    _ => f.solve_interleaved::<3>(&mut y),
+                }
+                for j in 0..k {
+                    let x: Vec<f64> = (0..n).map(|i| y[k * f.position(i) + j]).collect();
+                    let mut ax = vec![0.0; n];
+                    p.mul_vec(&v, &x, &mut ax);
+                    let scale = v.iter().fold(1.0f64, |m, a| m.max(a.abs()))
+                        * x.iter().fold(1.0f64, |m, a| m.max(a.abs()));
+                    for i in 0..n {
+                        proptest::prop_assert!((ax[i] - b[j * 40 + i]).abs() <= 1e-12 * scale);
+                    }
+                }
+            }
+        }
+    }
 }
