@@ -88,19 +88,11 @@ pub fn shift_invert_lanczos(
                 return Err(EigenError::NoConvergence { converged: 0, requested: n_modes, steps });
             };
             let estimated = ritz.estimates(&images, basis.len);
-            let worst = estimated
-                .iter()
-                .zip(&ritz.theta)
-                .map(|(r, t)| r / (settings.tol * t))
-                .fold(0.0_f64, f64::max);
+            let worst = ritz.worst_ratio(&estimated, settings.tol);
             skip = blocks_to_skip(worst);
             if full || worst <= 1.0 {
                 let residuals = basis.residuals(&ritz);
-                let converged = residuals
-                    .iter()
-                    .zip(&ritz.theta)
-                    .filter(|(r, t)| **r <= settings.tol * **t)
-                    .count();
+                let converged = ritz.converged(&residuals, settings.tol);
                 if converged == n_modes {
                     return Ok(finish(settings.shift, &basis, &ritz));
                 }
@@ -188,6 +180,16 @@ struct Ritz {
 }
 
 impl Ritz {
+    /// Largest ratio of residual to tol · |θ| over the pairs.
+    fn worst_ratio(&self, residuals: &[f64], tol: f64) -> f64 {
+        residuals.iter().zip(&self.theta).map(|(r, t)| r / (tol * t.abs())).fold(0.0, f64::max)
+    }
+
+    /// Number of pairs with residual ≤ tol · |θ|.
+    fn converged(&self, residuals: &[f64], tol: f64) -> usize {
+        residuals.iter().zip(&self.theta).filter(|(r, t)| **r <= tol * t.abs()).count()
+    }
+
     /// ‖W s_last‖ per pair: the residual norms from the relation
     /// Op Q = Q H + W, `images` = (W, the number of columns of Q whose
     /// images W holds, i.e. the last block).
