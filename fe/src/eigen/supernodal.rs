@@ -3,8 +3,8 @@
 //! right-hand sides at once, stored interleaved (row-major n × K, position
 //! order): every entry of L is loaded once for all K columns. Each
 //! supernode is a dense column-major block, its columns' diagonal block on
-//! top of the rows of its pattern (Ng & Peyton 1993). The single-column
-//! case is the substitution of `transient::factor_cache`.
+//! top of the rows of its pattern (Ng & Peyton 1993). A generalisation of
+//! the single-column substitution in `transient::factor_cache`.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
