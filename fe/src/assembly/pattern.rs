@@ -20,19 +20,52 @@ impl SparsePattern {
         n: usize,
         elements: impl Iterator<Item = &'a [Option<usize>]>,
     ) -> Self {
-        let mut cols: Vec<Vec<usize>> = (0..n).map(|c| vec![c]).collect();
-        for eqs in elements {
-            for c in eqs.iter().flatten() {
-                cols[*c].extend(eqs.iter().flatten());
+        // The free equations of each element, flat, with offsets.
+        let (mut eqs, mut starts) = (Vec::new(), vec![0]);
+        for e in elements {
+            eqs.extend(e.iter().flatten().copied());
+            starts.push(eqs.len());
+        }
+        // Room per column: the diagonal plus each element's list, duplicates
+        // included; then filled, sorted and deduplicated in place.
+        let mut room = vec![1usize; n + 1];
+        for w in starts.windows(2) {
+            for &c in &eqs[w[0]..w[1]] {
+                room[c] += w[1] - w[0];
+            }
+        }
+        let mut fill: Vec<usize> = Vec::with_capacity(n + 1);
+        let mut total = 0;
+        for r in &room[..n] {
+            fill.push(total);
+            total += r;
+        }
+        let mut buf = vec![0usize; total];
+        let begin = fill.clone();
+        for (c, f) in fill.iter_mut().enumerate() {
+            buf[*f] = c;
+            *f += 1;
+        }
+        for w in starts.windows(2) {
+            let list = &eqs[w[0]..w[1]];
+            for &c in list {
+                buf[fill[c]..fill[c] + list.len()].copy_from_slice(list);
+                fill[c] += list.len();
             }
         }
         let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
+        let mut row_idx = Vec::with_capacity(total);
         col_ptr.push(0);
-        for mut c in cols {
-            c.sort_unstable();
-            c.dedup();
-            row_idx.extend(c);
+        for c in 0..n {
+            let col = &mut buf[begin[c]..fill[c]];
+            col.sort_unstable();
+            let mut last = usize::MAX;
+            for &r in col.iter() {
+                if r != last {
+                    row_idx.push(r);
+                    last = r;
+                }
+            }
             col_ptr.push(row_idx.len());
         }
         SparsePattern { n, col_ptr, row_idx }
@@ -50,15 +83,24 @@ impl SparsePattern {
     }
 
     /// Storage positions of an element's dense matrix (row-major, m×m;
-    /// `None` where a row or column is a fixed DOF).
+    /// `None` where a row or column is a fixed DOF). Consecutive equations
+    /// (the DOFs of one node) are consecutive in a column: one search per run.
     pub fn positions(&self, eqs: &[Option<usize>]) -> Vec<Option<usize>> {
-        let mut out = Vec::with_capacity(eqs.len() * eqs.len());
-        for r in eqs {
-            for c in eqs {
-                out.push(match (r, c) {
-                    (Some(r), Some(c)) => self.position(*r, *c),
-                    _ => None,
-                });
+        let m = eqs.len();
+        let mut out = vec![None; m * m];
+        for (ci, c) in eqs.iter().enumerate() {
+            let Some(c) = c else { continue };
+            let (a, b) = (self.col_ptr[*c], self.col_ptr[*c + 1]);
+            let rows = &self.row_idx[a..b];
+            let mut last: Option<(usize, usize)> = None;
+            for (ri, r) in eqs.iter().enumerate() {
+                let Some(r) = r else { continue };
+                let p = match last {
+                    Some((lr, lp)) if *r == lr + 1 && rows.get(lp + 1) == Some(r) => Some(lp + 1),
+                    _ => rows.binary_search(r).ok(),
+                };
+                last = p.map(|p| (*r, p));
+                out[ri * m + ci] = p.map(|p| a + p);
             }
         }
         out

@@ -127,13 +127,9 @@ fn beam_values(
         let xj = dofs.coords(b.j).ok_or_else(|| missing(b.j))?;
         let k =
             beam_global_stiffness(b, xi, xj).ok_or(AssemblyError::BeamGeometry { beam: b.id })?;
-        for (r, er) in eqs.iter().enumerate() {
-            let Some(er) = er else { continue };
-            for (c, ec) in eqs.iter().enumerate() {
-                let Some(ec) = ec else { continue };
-                if let Some(p) = pattern.position(*er, *ec) {
-                    values[p] += k[(r, c)];
-                }
+        for (rc, p) in pattern.positions(eqs).into_iter().enumerate() {
+            if let Some(p) = p {
+                values[p] += k[(rc / 12, rc % 12)];
             }
         }
     }

@@ -25,6 +25,14 @@ impl SparseFactor {
         }
     }
 
+    /// Overwrites each column of `x` (n × k) with A⁻¹ x.
+    pub fn solve_mat_in_place(&self, x: MatMut<'_, f64>) {
+        match self {
+            SparseFactor::Cholesky(f) => f.solve_in_place(x),
+            SparseFactor::Lu(f) => f.solve_in_place(x),
+        }
+    }
+
     /// Overwrites `x` (length n) with A⁻¹ x.
     pub fn solve_in_place(&self, x: &mut [f64]) {
         let n = x.len();

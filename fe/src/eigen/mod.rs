@@ -1,20 +1,27 @@
 //! Generalized eigenproblem K φ = ω² M φ on the free DOFs, lowest modes:
-//! sparse block shift-invert Lanczos ([`lanczos`]) on a faer sparse factorization
-//! of K − σM, a dense statically condensed solver for tests ([`dense`]), and
-//! the modal quantities of a model ([`modal`]: frequencies, mass-normalised
-//! shapes, participation factors, effective masses).
+//! sparse block shift-invert Lanczos ([`lanczos`]) in mass-scaled
+//! coordinates ([`shift_invert`]) on a supernodal Cholesky factor of K − σM
+//! ([`supernodal`], ordered by AMD on node blocks, [`ordering`]; sparse LU,
+//! [`factor`], if K − σM is indefinite), a dense statically condensed solver
+//! for tests ([`dense`]), and the modal quantities of a model ([`modal`]:
+//! frequencies, mass-normalised shapes, participation factors, effective
+//! masses).
 //!
 //! Massless DOFs (the ceiling models carry no rotational mass) give infinite
 //! eigenvalues; shift-invert maps them to θ = 0, so they never appear among
-//! the lowest modes, and every Lanczos vector lies in the range of
-//! (K − σM)⁻¹M, i.e. is statically condensed exactly as the dense solver does.
+//! the lowest modes. The iteration runs on the DOFs with mass; the shapes
+//! are images (K − σM)⁻¹ M x on all DOFs, i.e. statically condensed exactly
+//! as the dense solver does.
 
 pub mod dense;
 pub mod factor;
 pub mod lanczos;
 pub mod modal;
+pub mod ordering;
 pub mod output;
 pub mod plot;
+pub mod shift_invert;
+pub mod supernodal;
 
 pub use dense::dense_eigen;
 pub use lanczos::{shift_invert_lanczos, LanczosSettings};
