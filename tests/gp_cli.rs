@@ -75,3 +75,77 @@ fn missing_input_column_is_reported() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no column \"b\""));
 }
+
+/// `gp fit` then `calibrate` with `kind = "gp"`: two emulated outputs
+/// a + b and a − b, observed as 1.0 and 0.2 with sds 0.05 from a data
+/// column. The exact posterior is a = 0.6, b = 0.4, each sd 0.05 / sqrt 2,
+/// uncorrelated; the emulators' variance is negligible at 40 training runs.
+#[test]
+fn calibrate_on_a_gp_file_recovers_a_linear_posterior() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut train = String::from("a,b,sum,diff\n");
+    for i in 0..40 {
+        let (a, b) = ((i as f64 * 0.618034) % 1.0, (i as f64 * 0.754878 + 0.1) % 1.0);
+        train += &format!("{a},{b},{},{}\n", a + b, a - b);
+    }
+    std::fs::write(dir.path().join("train.csv"), train).unwrap();
+    std::fs::write(dir.path().join("data.csv"), "row,y,sd\n1,1.0,0.05\n2,0.2,0.05\n").unwrap();
+    let gp = dir.path().join("gp.json");
+    let t = dir.path().join("train.csv");
+    ceilfarm_ok(&["gp", "fit", s(&t), "--inputs", "a,b", "--outputs", "sum,diff", "--out", s(&gp)]);
+    let cfg = dir.path().join("cal.toml");
+    std::fs::write(
+        &cfg,
+        r#"
+[simulator]
+kind = "gp"
+file = "gp.json"
+outputs = ["sum", "diff"]
+
+[data]
+file = "data.csv"
+x = ["row"]
+y = "y"
+
+[[parameters]]
+name = "b"
+low = 0.0
+high = 1.0
+
+[[parameters]]
+name = "a"
+low = 0.0
+high = 1.0
+
+[noise]
+sd_column = "sd"
+
+[method]
+kind = "bbvi-fullrank"
+seed = 3
+"#,
+    )
+    .unwrap();
+    let out = dir.path().join("post");
+    ceilfarm_ok(&["calibrate", s(&cfg), "--out", s(&out)]);
+    let text = std::fs::read_to_string(out.join("posterior.json")).unwrap();
+    let post: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let sd = 0.05 / 2f64.sqrt();
+    for (name, mean) in [("a", 0.6), ("b", 0.4)] {
+        let p = &post["parameters"][name];
+        let (m, s) = (p["mean"].as_f64().unwrap(), p["sd"].as_f64().unwrap());
+        assert!((m - mean).abs() < 0.2 * sd, "{name}: mean {m} vs {mean}");
+        assert!((s / sd - 1.0).abs() < 0.1, "{name}: sd {s} vs {sd}");
+    }
+    let r = post["correlation"]["matrix"][0][1].as_f64().unwrap();
+    assert!(r.abs() < 0.1, "correlation {r}");
+
+    std::fs::write(&cfg, std::fs::read_to_string(&cfg).unwrap().replace("\"diff\"]", "\"dif\"]"))
+        .unwrap();
+    let bad = ceilfarm(&["calibrate", s(&cfg), "--out", s(&out)]);
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        !bad.status.success() && err.contains("simulator.outputs") && err.contains("dif"),
+        "{err}"
+    );
+}

@@ -1,7 +1,9 @@
 //! `ceilfarm calibrate CALIB.toml --out DIR`: Bayesian calibration of a
-//! registered model kind against a data file (KOH discrepancy optional) by
-//! BBVI or MCMC; writes `posterior.json`, `samples.csv`, `elbo.csv` (BBVI)
-//! and `predictive.csv` (posterior predictive of the simulator).
+//! registered model kind, or of GP emulators from a `gp fit` model file
+//! (`kind = "gp"`; their predictive variance enters the likelihood),
+//! against a data file (KOH discrepancy optional) by BBVI or MCMC; writes
+//! `posterior.json`, `samples.csv`, `elbo.csv` (BBVI) and `predictive.csv`
+//! (posterior predictive of the simulator).
 //!
 //! The `[simulator]`, `[data]` and `[[parameters]]` sections are shared with
 //! `ceilfarm select`. Relative data paths are resolved against the config
@@ -40,17 +42,22 @@ pub struct ConfigError {
     pub expected: String,
 }
 
-/// `[simulator]`: a model kind of the worker registry.
+/// `[simulator]`: a model kind of the worker registry, or `gp` emulators.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SimulatorSection {
-    /// Registry kind, e.g. `oscillator`.
+    /// Registry kind, e.g. `oscillator`, or `gp`.
     pub kind: String,
     /// Kind-specific options.
     #[serde(default)]
     pub options: toml::Table,
     /// Option that receives the data's x column (one input column only).
     pub x_option: Option<String>,
+    /// `gp`: the model file of `ceilfarm gp fit` (or a pipeline's emulators.json).
+    pub file: Option<PathBuf>,
+    /// `gp`: the emulated output predicting each data row, in row order.
+    #[serde(default)]
+    pub outputs: Vec<String>,
 }
 
 /// `[data]`: observations in a CSV file with a header row.
@@ -81,11 +88,12 @@ pub struct ParameterSection {
     pub nominal: Option<f64>,
 }
 
-/// `[noise]`: known sd, or inferred over a range.
+/// `[noise]`: known sd, a data column of sds, or inferred over a range.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct NoiseSection {
     sd: Option<f64>,
+    sd_column: Option<String>,
     infer: Option<[f64; 2]>,
 }
 
@@ -233,7 +241,7 @@ pub struct Problem {
     /// True responses (if `data.truth` is set).
     pub truth: Option<Vec<f64>>,
     /// The simulator over every `[[parameters]]` entry.
-    pub sim: ModelSimulator,
+    pub sim: Box<dyn Simulator>,
     /// The prior box of those parameters.
     pub prior: UniformBox,
 }
@@ -256,6 +264,22 @@ pub fn load_problem(
     let d = data.x.len();
     let n = cols[d].len();
     let x: Vec<Vec<f64>> = (0..n).map(|i| (0..d).map(|j| cols[j][i]).collect()).collect();
+    let prior = UniformBox::new(
+        params.iter().map(|p| p.name.clone()).collect(),
+        params.iter().map(|p| p.low).collect(),
+        params.iter().map(|p| p.high).collect(),
+    )
+    .map_err(|e| anyhow::anyhow!("{file}: [[parameters]]: {e}"))?;
+    let problem = |sim: Box<dyn Simulator>| Problem {
+        x: x.clone(),
+        y: cols[d].clone(),
+        truth: data.truth.as_ref().map(|_| cols[d + 1].clone()),
+        sim,
+        prior: prior.clone(),
+    };
+    if sim.kind == "gp" {
+        return Ok(problem(Box::new(gp_simulator(config, sim, params, n)?)));
+    }
     let mut options = serde_json::to_value(&sim.options)?;
     if let Some(key) = &sim.x_option {
         if d != 1 {
@@ -288,19 +312,88 @@ pub fn load_problem(
         }
         .into());
     }
-    let prior = UniformBox::new(
-        param_names.clone(),
-        params.iter().map(|p| p.low).collect(),
-        params.iter().map(|p| p.high).collect(),
-    )
-    .map_err(|e| anyhow::anyhow!("{file}: [[parameters]]: {e}"))?;
-    Ok(Problem {
-        x,
-        y: cols[d].clone(),
-        truth: data.truth.as_ref().map(|_| cols[d + 1].clone()),
-        sim: ModelSimulator { model, names: param_names, n_outputs: n_out },
-        prior,
-    })
+    Ok(problem(Box::new(ModelSimulator { model, names: param_names, n_outputs: n_out })))
+}
+
+/// GP emulators seen as a simulator over the `[[parameters]]` in their order.
+struct GpFileSimulator {
+    emulator: stats::calibration::GpEmulator,
+    /// For each emulator input, its index among the parameters.
+    from_param: Vec<usize>,
+}
+
+impl Simulator for GpFileSimulator {
+    fn n_params(&self) -> usize {
+        self.from_param.len()
+    }
+    fn n_outputs(&self) -> usize {
+        self.emulator.n_outputs()
+    }
+    fn predict(&self, theta: &[f64]) -> Result<Prediction, CalibError> {
+        CalibError::check_len("parameters", theta.len(), self.from_param.len())?;
+        let x: Vec<f64> = self.from_param.iter().map(|&k| theta[k]).collect();
+        self.emulator.predict(&x)
+    }
+}
+
+/// The `gp` simulator: the model file's outputs for the data rows; every
+/// emulator input must be a `[[parameters]]` entry and vice versa.
+fn gp_simulator(
+    config: &Path,
+    sim: &SimulatorSection,
+    params: &[ParameterSection],
+    n_rows: usize,
+) -> anyhow::Result<GpFileSimulator> {
+    let file = config.display().to_string();
+    let path = sim.file.as_ref().ok_or_else(|| {
+        bad(&file, "simulator.file", "(missing)", "the GP model file for kind = \"gp\"")
+    })?;
+    let (model, _) = crate::commands::gp::load_model(&resolve(config, path)?)?;
+    if sim.outputs.len() != n_rows {
+        return Err(bad(
+            &file,
+            "simulator.outputs",
+            &sim.outputs,
+            &format!("one emulated output per data row ({n_rows} rows)"),
+        ));
+    }
+    let known: Vec<&str> = model.outputs.iter().map(|o| o.name.as_str()).collect();
+    let chosen = sim
+        .outputs
+        .iter()
+        .map(|name| {
+            let o = model.outputs.iter().find(|o| &o.name == name).ok_or_else(|| {
+                bad(&file, "simulator.outputs", name, &format!("one of {}", known.join(", ")))
+            })?;
+            stats::gp::Gp::from_model(o.gp.clone())
+                .with_context(|| format!("{}: output {name}", path.display()))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let names: Vec<&str> = params.iter().map(|p| p.name.as_str()).collect();
+    let from_param = model
+        .inputs
+        .iter()
+        .map(|input| {
+            names.iter().position(|n| n == input).ok_or_else(|| {
+                bad(
+                    &file,
+                    "[[parameters]]",
+                    &names,
+                    &format!("an entry for emulator input {input}"),
+                )
+            })
+        })
+        .collect::<anyhow::Result<Vec<usize>>>()?;
+    if params.len() != model.inputs.len() {
+        return Err(bad(
+            &file,
+            "[[parameters]]",
+            &names,
+            &format!("exactly the emulator inputs {}", model.inputs.join(", ")),
+        ));
+    }
+    let emulator = stats::calibration::GpEmulator::new(chosen, true)?;
+    Ok(GpFileSimulator { emulator, from_param })
 }
 
 fn bad(file: &str, key: &str, value: impl std::fmt::Debug, expected: &str) -> anyhow::Error {
@@ -313,18 +406,38 @@ fn bad(file: &str, key: &str, value: impl std::fmt::Debug, expected: &str) -> an
     .into()
 }
 
-/// (Hyper, optional prior range) of the noise section.
+/// (Hyper, optional prior range) of the noise section; a `sd_column` is a
+/// fixed unit sd scaled per row (see [`noise_scale`]).
 fn noise_hyper(file: &str, n: &NoiseSection) -> anyhow::Result<(Hyper, Option<[f64; 2]>)> {
-    match (n.sd, n.infer) {
-        (Some(sd), None) if sd > 0.0 && sd.is_finite() => Ok((Hyper::Fixed(sd), None)),
-        (None, Some(r)) => Ok((Hyper::Inferred, Some(r))),
+    match (n.sd, &n.sd_column, n.infer) {
+        (Some(sd), None, None) if sd > 0.0 && sd.is_finite() => Ok((Hyper::Fixed(sd), None)),
+        (None, Some(_), None) => Ok((Hyper::Fixed(1.0), None)),
+        (None, None, Some(r)) => Ok((Hyper::Inferred, Some(r))),
         _ => Err(bad(
             file,
             "noise",
-            (n.sd, n.infer),
-            "either sd = <value > 0> or infer = [low, high]",
+            (n.sd, &n.sd_column, n.infer),
+            "one of sd = <value > 0>, sd_column = \"<data column>\" or infer = [low, high]",
         )),
     }
+}
+
+/// Per-row noise sds from `[noise] sd_column` (ones without it).
+fn noise_scale(
+    config: &Path,
+    data: &DataSection,
+    n: &NoiseSection,
+    rows: usize,
+) -> anyhow::Result<Vec<f64>> {
+    let Some(col) = &n.sd_column else {
+        return Ok(vec![1.0; rows]);
+    };
+    let path = resolve(config, &data.file)?;
+    let sd = read_columns(&path, &[col.as_str()])?.remove(0);
+    if let Some(v) = sd.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        return Err(bad(&path.display().to_string(), col, v, "finite sds > 0"));
+    }
+    Ok(sd)
 }
 
 /// KOH settings and prior ranges of the inferred hyperparameters, in likelihood order.
@@ -377,6 +490,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     })?;
     let p = load_problem(&args.config, &cfg.simulator, &cfg.data, &cfg.parameters)?;
     let (noise, noise_range) = noise_hyper(&file, &cfg.noise)?;
+    let scale = noise_scale(&args.config, &cfg.data, &cfg.noise, p.y.len())?;
     let settings = RunSettings {
         method,
         draws: cfg.method.draws.max(10),
@@ -389,6 +503,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     match disc {
         None => {
             let lik = GaussianLikelihood::new(&p.sim, p.y.clone(), noise)
+                .and_then(|l| l.with_noise_scale(scale))
                 .map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
             finish(&args, &cfg.method.kind, &p, lik, noise_range.into_iter().collect(), &settings)
         }
@@ -398,6 +513,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 ranges.insert(0, r);
             }
             let lik = KohLikelihood::new(&p.sim, p.x.clone(), p.y.clone(), koh)
+                .and_then(|l| l.with_noise_scale(scale))
                 .map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
             finish(&args, &cfg.method.kind, &p, lik, ranges, &settings)
         }

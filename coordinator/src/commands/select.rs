@@ -142,8 +142,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .with_context(|| format!("{}: cannot write", path.display()))
 }
 
-/// The criteria table as CSV (free parameters space-separated).
-/// The criteria table as CSV, one row per candidate.
+/// The criteria table as CSV, one row per candidate (free parameters space-separated).
 pub fn criteria_csv(t: &SelectionTable) -> String {
     let mut s = String::from(
         "name,free_parameters,neg_log_likelihood,aic,bic,dic,icomp,mdl,log_fisher_integral,log_fisher_integral_se,gr_percent,identifiable\n",

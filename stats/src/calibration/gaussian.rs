@@ -1,5 +1,6 @@
 //! Independent Gaussian noise likelihood y_i = eta_i(theta) + eps_i,
-//! eps_i ~ N(0, sigma² + v_i), v_i the emulator variance (0 for a direct model).
+//! eps_i ~ N(0, (sigma c_i)² + v_i), v_i the emulator variance (0 for a
+//! direct model), c_i a per-observation scale (1 unless given).
 
 use super::{CalibError, Hyper, Likelihood, Simulator};
 use std::f64::consts::PI;
@@ -9,6 +10,7 @@ pub struct GaussianLikelihood<S> {
     sim: S,
     y: Vec<f64>,
     noise_sd: Hyper,
+    noise_scale: Vec<f64>,
 }
 
 impl<S: Simulator> GaussianLikelihood<S> {
@@ -19,7 +21,25 @@ impl<S: Simulator> GaussianLikelihood<S> {
         if let Some(v) = y.iter().find(|v| !v.is_finite()) {
             return Err(CalibError::invalid("y", v, "finite observations"));
         }
-        Ok(Self { sim, y, noise_sd })
+        let noise_scale = vec![1.0; y.len()];
+        Ok(Self { sim, y, noise_sd, noise_scale })
+    }
+
+    /// Observation i gets noise sd `noise_sd * scale[i]` (e.g. noise_sd
+    /// fixed at 1 and `scale` the measured sds).
+    pub fn with_noise_scale(mut self, scale: Vec<f64>) -> Result<Self, CalibError> {
+        CalibError::check_len("noise scales", scale.len(), self.y.len())?;
+        if let Some(s) = scale.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+            return Err(CalibError::invalid("noise scale", s, "a finite value > 0"));
+        }
+        self.noise_scale = scale;
+        Ok(self)
+    }
+
+    /// Total variance of each observation for noise sd `s` and emulator variance `v`.
+    fn variances(&self, s: f64, v: Option<&[f64]>) -> Vec<f64> {
+        let c = &self.noise_scale;
+        (0..self.y.len()).map(|i| (s * c[i]).powi(2) + v.map_or(0.0, |v| v[i])).collect()
     }
 
     /// The simulator.
@@ -57,12 +77,9 @@ impl<S: Simulator> Likelihood for GaussianLikelihood<S> {
         let np = self.sim.n_params();
         let pred = self.sim.predict(&params[..np])?;
         let mut next = np;
-        let s2 = self.noise_sd.value(params, &mut next).powi(2);
+        let s = self.noise_sd.value(params, &mut next);
         let resid: Vec<f64> = self.y.iter().zip(&pred.mean).map(|(y, m)| y - m).collect();
-        Ok(match &pred.variance {
-            None => gaussian_log_density(&resid, std::iter::repeat(s2)),
-            Some(v) => gaussian_log_density(&resid, v.iter().map(|v| s2 + v)),
-        })
+        Ok(gaussian_log_density(&resid, self.variances(s, pred.variance.as_deref()).into_iter()))
     }
     /// From the simulator's Jacobian: sum_i r_i / v_i J_i in the simulator
     /// parameters, sum_i s (r_i² / v_i² − 1 / v_i) in an inferred noise sd s.
@@ -81,10 +98,7 @@ impl<S: Simulator> Likelihood for GaussianLikelihood<S> {
         };
         let mut next = np;
         let s = self.noise_sd.value(params, &mut next);
-        let var: Vec<f64> = match &pred.variance {
-            None => vec![s * s; self.y.len()],
-            Some(v) => v.iter().map(|v| s * s + v).collect(),
-        };
+        let var = self.variances(s, pred.variance.as_deref());
         let resid: Vec<f64> = self.y.iter().zip(&pred.mean).map(|(y, m)| y - m).collect();
         grad.iter_mut().for_each(|g| *g = 0.0);
         for (i, (r, v)) in resid.iter().zip(&var).enumerate() {
@@ -92,7 +106,8 @@ impl<S: Simulator> Likelihood for GaussianLikelihood<S> {
                 grad[j] += r / v * jac[(i, j)];
             }
             if self.noise_sd.is_inferred() {
-                grad[np] += s * (r * r / (v * v) - 1.0 / v);
+                let c2 = self.noise_scale[i] * self.noise_scale[i];
+                grad[np] += s * c2 * (r * r / (v * v) - 1.0 / v);
             }
         }
         Some(Ok(gaussian_log_density(&resid, var.into_iter())))
@@ -159,7 +174,10 @@ mod gradient_tests {
     #[test]
     fn analytic_gradient_matches_central_differences() {
         for noise in [Hyper::Fixed(0.3), Hyper::Inferred] {
-            let lik = GaussianLikelihood::new(Smooth, vec![1.1, 0.4, 0.8], noise).unwrap();
+            let lik = GaussianLikelihood::new(Smooth, vec![1.1, 0.4, 0.8], noise)
+                .unwrap()
+                .with_noise_scale(vec![1.0, 0.5, 2.0])
+                .unwrap();
             let d = lik.n_params();
             let names: Vec<String> = ["a", "b", "s"][..d].iter().map(|s| s.to_string()).collect();
             let prior = UniformBox::new(
@@ -188,5 +206,25 @@ mod gradient_tests {
                 );
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod scale_tests {
+    use super::*;
+    use crate::calibration::FnSimulator;
+
+    #[test]
+    fn noise_scale_gives_each_observation_its_sd() {
+        let sim = FnSimulator::new(1, 2, |t: &[f64]| Ok(vec![t[0], 1.0]));
+        let lik = GaussianLikelihood::new(sim, vec![0.5, 1.6], Hyper::Fixed(1.0))
+            .unwrap()
+            .with_noise_scale(vec![0.1, 0.3])
+            .unwrap();
+        let want = [(0.2f64, 0.1f64), (0.6, 0.3)]
+            .iter()
+            .map(|(r, s)| -0.5 * (r * r / (s * s) + (2.0 * PI * s * s).ln()))
+            .sum::<f64>();
+        assert!((lik.log_likelihood(&[0.3]).unwrap() - want).abs() < 1e-12);
     }
 }
