@@ -6,6 +6,7 @@
 //! that the likelihood can be re-weighted without re-running anything.
 
 use super::cause::{Cause, Demand, Prior};
+use super::envelope::envelope_neg_log_lik;
 use super::fit::{neg_log_lik, ChannelFit, Evaluation};
 use crate::bundle::Bundle;
 use crate::design::draw;
@@ -45,6 +46,8 @@ pub struct Point {
     pub u: Vec<f64>,
     /// Channel fits, or why the simulation failed.
     pub fit: Result<Vec<ChannelFit>, String>,
+    /// −log L of the windowed RMS misfits (+∞ when the simulation failed).
+    pub coarse: f64,
 }
 
 /// All FE evaluations of one variant.
@@ -114,19 +117,33 @@ impl Calibration {
 /// Residual vectors per channel of one evaluation.
 pub type Residuals = Vec<Vec<f64>>;
 
+/// Which residuals a local search fits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scale {
+    /// The time histories (the likelihood the estimate is judged by).
+    Fine,
+    /// The windowed RMS misfits (phase-free, broad optimum).
+    Coarse,
+}
+
+/// One evaluation with its time-history and windowed residuals.
+type Full = (Point, Option<(Residuals, Residuals)>);
+
 /// Runs the FE model at unit-cube points on `threads` threads.
 pub fn evaluate_points(ev: &Evaluation<'_>, us: &[Vec<f64>], threads: usize) -> Vec<Point> {
     evaluate_full(ev, us, threads).into_iter().map(|(p, _)| p).collect()
 }
 
-/// As [`evaluate_points`], keeping each point's residual vectors.
-pub fn evaluate_full(
-    ev: &Evaluation<'_>,
-    us: &[Vec<f64>],
-    threads: usize,
-) -> Vec<(Point, Option<Residuals>)> {
+/// A point that failed to simulate.
+fn failed(u: &[f64], why: String) -> Point {
+    Point { u: u.to_vec(), fit: Err(why), coarse: f64::INFINITY }
+}
+
+/// As [`evaluate_points`], keeping each point's time-history and windowed
+/// residual vectors.
+fn evaluate_full(ev: &Evaluation<'_>, us: &[Vec<f64>], threads: usize) -> Vec<Full> {
     let next = std::sync::atomic::AtomicUsize::new(0);
-    type Slot = std::sync::Mutex<Option<(Point, Option<Residuals>)>>;
+    type Slot = std::sync::Mutex<Option<Full>>;
     let slots: Vec<Slot> = us.iter().map(|_| std::sync::Mutex::new(None)).collect();
     std::thread::scope(|s| {
         for _ in 0..threads.max(1).min(us.len().max(1)) {
@@ -145,9 +162,11 @@ pub fn evaluate_full(
                             .flatten()
                             .filter(|r| !r.is_finite())
                             .for_each(|r| *r = 0.0);
-                        (Point { u: us[k].clone(), fit: Ok(fits) }, Some(residuals))
+                        let env = ev.envelope_misfits(&sims);
+                        let coarse = envelope_neg_log_lik(&env);
+                        (Point { u: us[k].clone(), fit: Ok(fits), coarse }, Some((residuals, env)))
                     }
-                    Err(e) => (Point { u: us[k].clone(), fit: Err(e) }, None),
+                    Err(e) => (failed(&us[k], e), None),
                 };
                 if let Ok(mut slot) = slots[k].lock() {
                     *slot = Some(out);
@@ -159,9 +178,10 @@ pub fn evaluate_full(
         .into_iter()
         .zip(us)
         .map(|(m, u)| {
-            m.into_inner().ok().flatten().unwrap_or_else(|| {
-                (Point { u: u.clone(), fit: Err("evaluation thread panicked".into()) }, None)
-            })
+            m.into_inner()
+                .ok()
+                .flatten()
+                .unwrap_or_else(|| (failed(u, "evaluation thread panicked".into()), None))
         })
         .collect()
 }
@@ -216,28 +236,88 @@ pub fn calibrate(
         cal.points.extend(evaluate_points(&ev, &next, budget.threads));
         progress(cal.points.len(), planned);
     }
-    cal.gauss_newton =
-        levenberg_marquardt(&mut cal, &ev, n_eff, budget, &mut |done| progress(done, planned));
+    let mut report = |done| progress(done, planned);
+    let start =
+        if base.is_some() { coarse_start(&mut cal, &ev, n_eff, budget, &mut report) } else { None };
+    let start = start.or_else(|| cal.best(n_eff).map(|k| cal.points[k].u.clone()));
+    if let Some(u) = start {
+        let (_, gn) =
+            levenberg_marquardt(&mut cal, &ev, n_eff, budget, Scale::Fine, u, &mut report);
+        cal.gauss_newton = gn;
+    }
     cal
 }
 
-/// Levenberg–Marquardt on −log L = Σ n_eff/2 · log SSR over every
-/// parameter (an extension re-tunes the baseline's too), from the best
-/// point: forward-difference Jacobians of the residuals (k + 1 FE runs in
-/// parallel), the Gauss–Newton matrix Σ n_eff/SSR · JᵀJ, steps clamped to
-/// the unit cube; stops when the budget is spent or a step gains < 0.01 nats.
-/// Returns the Gauss–Newton matrix at the final point.
-fn levenberg_marquardt(
+/// Distinct starts of the coarse search.
+const COARSE_STARTS: usize = 2;
+
+/// Coarse-to-fine start of an extension's final search: Levenberg–Marquardt
+/// on the windowed RMS misfits over every parameter from the
+/// [`COARSE_STARTS`] distinct points where they are smallest (the
+/// extension's physics may trade against the baseline's, and its
+/// time-history optimum is too sharp for a design to land near), then the
+/// best under −log L of where those searches ended and the best point
+/// evaluated before them.
+fn coarse_start(
     cal: &mut Calibration,
     ev: &Evaluation<'_>,
     n_eff: &[f64],
     budget: &Budget,
     progress: &mut dyn FnMut(usize),
-) -> Option<DMatrix<f64>> {
+) -> Option<Vec<f64>> {
+    let best = cal.best(n_eff)?;
+    let mut order: Vec<usize> =
+        (0..cal.points.len()).filter(|k| cal.points[*k].coarse.is_finite()).collect();
+    order.sort_by(|a, b| cal.points[*a].coarse.total_cmp(&cal.points[*b].coarse));
+    let mut starts: Vec<Vec<f64>> = Vec::new();
+    for k in order {
+        let u = &cal.points[k].u;
+        if starts.len() < COARSE_STARTS
+            && starts.iter().all(|s| crate::design::sq_dist(s, u).sqrt() > 0.15)
+        {
+            starts.push(u.clone());
+        }
+    }
+    let mut pick = cal.points[best].u.clone();
+    let mut f_pick = cal.objective(n_eff)[best];
+    for from in starts {
+        let (end, _) = levenberg_marquardt(cal, ev, n_eff, budget, Scale::Coarse, from, progress);
+        let f = cal.objective(n_eff);
+        let at_end = cal.points.iter().position(|p| p.u == end).map_or(f64::INFINITY, |k| f[k]);
+        if at_end < f_pick {
+            (pick, f_pick) = (end, at_end);
+        }
+    }
+    Some(pick)
+}
+
+/// Levenberg–Marquardt on −log L = Σ n_c/2 · log SSR_c over every
+/// parameter (an extension re-tunes the baseline's too), from `start`, on
+/// the time histories (n_c = n_eff) or the windowed misfits (n_c = windows):
+/// forward-difference Jacobians of the residuals (k + 1 FE runs in
+/// parallel), the Gauss–Newton matrix Σ n_c/SSR_c · JᵀJ, steps clamped to
+/// the unit cube; stops when the budget is spent or a step gains < 0.01 nats.
+/// Returns the final point and the Gauss–Newton matrix there.
+fn levenberg_marquardt(
+    cal: &mut Calibration,
+    ev: &Evaluation<'_>,
+    n_eff: &[f64],
+    budget: &Budget,
+    scale: Scale,
+    start: Vec<f64>,
+    progress: &mut dyn FnMut(usize),
+) -> (Vec<f64>, Option<DMatrix<f64>>) {
     let k = cal.priors.len();
-    let start = cal.best(n_eff)?;
-    let mut u = cal.points[start].u.clone();
-    let mut f = cal.objective(n_eff)[start];
+    let objective = |p: &Point| match scale {
+        Scale::Fine => p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff)),
+        Scale::Coarse => p.coarse,
+    };
+    let pick = |r: &(Residuals, Residuals)| match scale {
+        Scale::Fine => r.0.clone(),
+        Scale::Coarse => r.1.clone(),
+    };
+    let mut u = start;
+    let mut f;
     let (mut lambda, mut spent, mut gn): (f64, usize, Option<DMatrix<f64>>) = (1e-3, 0, None);
     // Extension parameters switch contact or slip on and off: a wider
     // difference step averages over the jumps that a narrow one would see.
@@ -254,7 +334,8 @@ fn levenberg_marquardt(
         }
         let evals = evaluate_full(ev, &us, budget.threads);
         spent += evals.len();
-        let Some(r0) = evals[0].1.clone() else { break };
+        f = objective(&evals[0].0);
+        let Some(r0) = evals[0].1.as_ref().map(pick) else { break };
         let ssr: Vec<f64> =
             r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
         let mut jt_r = DVector::zeros(k);
@@ -262,7 +343,7 @@ fn levenberg_marquardt(
         let mut cols: Vec<Option<Residuals>> = Vec::with_capacity(k);
         for (i, (_, ri)) in evals[1..].iter().enumerate() {
             let step = us[i + 1][i] - u[i];
-            cols.push(ri.as_ref().map(|ri| {
+            cols.push(ri.as_ref().map(pick).map(|ri| {
                 ri.iter()
                     .zip(&r0)
                     .map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect())
@@ -274,7 +355,11 @@ fn levenberg_marquardt(
         }
         let cols: Vec<Residuals> = cols.into_iter().flatten().collect();
         for (c, r) in r0.iter().enumerate() {
-            let w = n_eff.get(c).copied().unwrap_or(0.0) / ssr[c];
+            let n_c = match scale {
+                Scale::Fine => n_eff.get(c).copied().unwrap_or(0.0),
+                Scale::Coarse => r.len() as f64,
+            };
+            let w = n_c / ssr[c];
             for a in 0..k {
                 jt_r[a] += w * cols[a][c].iter().zip(r).map(|(x, y)| x * y).sum::<f64>();
                 for b in a..k {
@@ -311,15 +396,15 @@ fn levenberg_marquardt(
                 .collect();
             let p = evaluate_points(ev, &[trial.clone()], 1).remove(0);
             spent += 1;
-            let ft = p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff));
+            let ft = objective(&p);
             cal.points.push(p);
             progress(cal.points.len());
             if ft < f {
                 let gain = f - ft;
-                (u, f, moved) = (trial, ft, true);
+                (u, moved) = (trial, true);
                 lambda = (lambda * 0.3).max(1e-6);
                 if gain < 0.01 {
-                    return gn;
+                    return (u, gn);
                 }
                 break;
             }
@@ -329,7 +414,7 @@ fn levenberg_marquardt(
             break;
         }
     }
-    gn
+    (u, gn)
 }
 
 /// Points where the emulator's mean is lowest: the minimiser from a dense

@@ -132,6 +132,23 @@ impl Evaluation<'_> {
         self.fits(sims).0
     }
 
+    /// Each channel's windowed RMS misfit (see [`super::envelope`]), in the
+    /// order of [`Evaluation::fits`].
+    pub fn envelope_misfits(&self, sims: &[Simulated]) -> Vec<Vec<f64>> {
+        let mut out = Vec::new();
+        for (&k, sim) in self.runs.iter().zip(sims) {
+            let run = &self.bundle.runs[k];
+            for (id, s) in sim {
+                if let Some(m) = run.sensor(id) {
+                    let off = pre_event_offset(m, run.dt_s);
+                    let a: Vec<f64> = m.iter().map(|v| v - off).collect();
+                    out.push(super::envelope::window_rms_misfit(&a, s, run.dt_s));
+                }
+            }
+        }
+        out
+    }
+
     /// Channel fits and, in the same order, each channel's residuals
     /// (simulated − offset-corrected measured; NaN where a reading is missing).
     pub fn fits(&self, sims: &[Simulated]) -> (Vec<ChannelFit>, Vec<Vec<f64>>) {

@@ -6,6 +6,7 @@
 
 pub mod calibrate;
 pub mod cause;
+pub mod envelope;
 pub mod filter;
 pub mod fit;
 pub mod mdl;
