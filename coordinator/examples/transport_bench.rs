@@ -5,6 +5,7 @@
 //! Run by `scripts/bench/transports`.
 //!
 //! Usage: transport_bench CEILFARM_BIN [TASKS] [REPEATS] [SPEEDUP_STUDY.toml]
+//! (TASKS = 0: the speed-up alone).
 
 use coordinator::farm::{run_farm, FarmSettings, ResultSink};
 use coordinator::study::{Study, TransportKind};
@@ -200,7 +201,8 @@ fn main() {
         "transport", "result", "bare rtt us", "farm rtt us", "ratio", "farm tasks/s", "cpu us/task"
     );
     let mut run = 0;
-    for kind in KINDS {
+    // TASKS = 0 runs the speed-up alone.
+    for kind in KINDS.into_iter().filter(|_| n > 0) {
         for (label, samples, count) in [("small", 0usize, n), ("1MiB", 131_072, n.min(200))] {
             let spec = noop(samples);
             let (mut bare, mut seq, mut thr, mut cpu) = (vec![], vec![], vec![], vec![]);
@@ -255,23 +257,41 @@ fn speedup(bin: &str, path: &str, repeats: usize, run: &mut usize) {
         .collect();
     let spec = study.model_spec();
     println!("\nspeed-up on {} ({} runs of {}):", path, tasks.len(), study.model_kind);
+    println!(
+        "(cpu = coordinator + workers, ms per task; load = 1-min load average before the runs)"
+    );
     for kind in [TransportKind::InProcess, TransportKind::Iceoryx2] {
-        let mut walls = [vec![], vec![]];
+        let (mut walls, mut cpus) = ([vec![], vec![]], [vec![], vec![]]);
+        let load = load_average();
         for _ in 0..repeats {
             for (slot, workers) in [(0, 1usize), (1, 2)] {
                 *run += 1;
                 let setup = Setup::new(kind, *run);
-                let (per_task, _) = farm_run(&setup, bin, &spec, tasks.clone(), workers, 2);
+                let (per_task, cpu) = farm_run(&setup, bin, &spec, tasks.clone(), workers, 2);
                 walls[slot].push(per_task * tasks.len() as f64);
+                cpus[slot].push(cpu);
             }
         }
         let (one, two) = (median(walls[0].clone()), median(walls[1].clone()));
+        let (c1, c2) = (median(cpus[0].clone()), median(cpus[1].clone()));
+        let ratios: Vec<String> =
+            walls[0].iter().zip(&walls[1]).map(|(a, b)| format!("{:.2}", a / b)).collect();
         println!(
-            "{:<11} 1 worker {:>8.3} s   2 workers {:>8.3} s   speed-up {:.2}",
+            "{:<11} 1 worker {:>8.3} s   2 workers {:>8.3} s   speed-up {:.2} (each {})   \
+             cpu {:.1} / {:.1}   load {load:.2}",
             kind.as_str(),
             one,
             two,
-            one / two
+            one / two,
+            ratios.join(" "),
+            c1 * 1e3,
+            c2 * 1e3,
         );
     }
+}
+
+/// The 1-minute load average (0 if unknown).
+fn load_average() -> f64 {
+    let text = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    text.split_whitespace().next().and_then(|v| v.parse().ok()).unwrap_or(0.0)
 }

@@ -76,6 +76,7 @@ fn the_coordinator_rejects_other_versions_and_garbage_and_keeps_serving() {
     c.start(HASH, &model()).unwrap();
     let hello = Envelope {
         from: "old".into(),
+        node: 0,
         msg: FromWorker::Hello { proto: 9999, name: "old".into(), threads: 1, study: None },
     };
     let mut bytes = codec::encode(&hello).unwrap();
@@ -139,7 +140,7 @@ fn a_worker_refuses_a_coordinator_of_another_version_and_says_so() {
     let mut msg =
         codec::encode(&ToWorker::Welcome { study_hash: HASH.into(), model: model() }).unwrap();
     msg[..2].copy_from_slice(&9999u16.to_le_bytes());
-    send(&welcome, &frame_welcome(&sweep, &msg)).unwrap();
+    send(&welcome, &frame_welcome(&sweep, n.id().value(), &msg)).unwrap();
     let rf =
         channel(&n, &format!("{root}/{sweep}/result"), RESULT_BUFFER, MAX_WORKERS, 0, false, 1)
             .unwrap();
@@ -161,9 +162,13 @@ fn a_worker_refuses_a_coordinator_of_another_version_and_says_so() {
 
 #[test]
 fn welcome_frames_round_trip_and_reject_garbage() {
-    let f = frame_welcome("abc123", &[1, 2, 3]);
-    assert_eq!(split_welcome(&f), Some(("abc123".to_string(), &[1u8, 2, 3][..])));
+    let id = 0x0123_4567_89ab_cdef_fedc_ba98_7654_3210u128;
+    let f = frame_welcome("abc123", id, &[1, 2, 3]);
+    let want = Welcome { sweep: "abc123".into(), coordinator: id, message: &[1u8, 2, 3][..] };
+    assert_eq!(split_welcome(&f), Some(want));
     assert_eq!(split_welcome(&[]), None);
     assert_eq!(split_welcome(&[10, b'a']), None);
     assert_eq!(split_welcome(&[2, b'/', b'x']), None);
+    // The node id is missing or cut short.
+    assert_eq!(split_welcome(&f[..7 + 15]), None);
 }

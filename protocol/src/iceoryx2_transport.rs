@@ -4,32 +4,35 @@
 //! competing consumers, so the layout is a work queue built by hand, under a
 //! service root `R` (default `ceilfarm`):
 //! - `R/welcome`: the coordinator publishes the sweep (history 1): the sweep
-//!   id in plain bytes, then the Welcome message; joining workers read it;
-//! - `R/<sweep>/result`: every worker publishes its Hello, results,
-//!   hand-backs and Goodbye; the coordinator subscribes;
+//!   id in plain bytes, the coordinator's node id, then the Welcome message;
+//!   joining workers read it, and join only if that node is alive;
+//! - `R/<sweep>/result`: every worker publishes its Hello (with its node
+//!   id), results, hand-backs and Goodbye; the coordinator subscribes before
+//!   it publishes the welcome, so no Hello goes out unread;
 //! - `R/<sweep>/task/<worker>`: one per worker, the coordinator publishes.
 //! Overwriting of unread samples is off and buffers exceed the farm's
 //! window, so no task or result is dropped. Liveness is iceoryx2's node
-//! monitoring. Waiting sides sleep on event services (`R/<sweep>/result-ready`,
+//! monitoring, by node id (names may repeat; a restarted process has a new
+//! id). Waiting sides sleep on event services (`R/<sweep>/result-ready`,
 //! `R/<sweep>/task-ready/<worker>`) that the sending side notifies, so a
-//! round trip costs no polling delay. The coordinator lists nodes every 100 ms, reports workers
-//! whose process died, and removes their stale resources. Messages are
-//! bincode with the version header; a worker of another protocol version (or
-//! pinned to another study) still finds the sweep id, announces itself on
-//! the result channel and leaves, so both sides log the refusal.
+//! round trip costs no polling delay. The coordinator lists nodes every
+//! 100 ms, reports workers whose process died, and removes their stale
+//! resources. Messages are bincode with the version header; a worker of
+//! another protocol version (or pinned to another study) still finds the
+//! sweep id, announces itself on the result channel and leaves, so both
+//! sides log the refusal.
 
 use crate::codec;
 use crate::link::{study_refusal, JoinRequest, Joined, LinkEvent, Ticket, WorkerLink};
 use crate::transport::{Transport, TransportError, TransportEvent, WorkerId};
 use crate::{FromWorker, ModelSpec, Task, TaskId, TaskResult, ToWorker, PROTOCOL_VERSION};
-use iceoryx2::identifiers::UniqueNodeId;
 use iceoryx2::node::NodeView;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -126,9 +129,14 @@ fn notifier(node: &Node<Svc>, name: &str, notifiers: usize) -> Result<(Ntf, Keep
     Ok((n, Box::new(f)))
 }
 
+/// Shortest wait handed to a listener. iceoryx2 0.10 turns the timeout into
+/// a socket `timeval` by truncation, and a zero `timeval` waits forever: a
+/// remainder under a microsecond would sleep until the next notification.
+const MIN_NAP: Duration = Duration::from_micros(1);
+
 /// Sleeps until notified or `timeout`, consuming pending notifications.
 fn nap(l: &Lst, timeout: Duration) {
-    let _ = l.timed_wait(|_| {}, timeout);
+    let _ = l.timed_wait(|_| {}, timeout.max(MIN_NAP));
 }
 
 fn publisher(
@@ -167,20 +175,14 @@ fn receive(s: &Sub) -> Result<Option<Vec<u8>>, TransportError> {
     }
 }
 
-/// Names of the nodes whose processes are alive; removes dead nodes' resources.
-fn alive_nodes() -> Vec<String> {
-    alive_node_ids().into_iter().map(|(name, _)| name).collect()
-}
-
-/// Names and ids of the live nodes; a restarted process has a new id.
-fn alive_node_ids() -> Vec<(String, UniqueNodeId)> {
-    let mut alive = Vec::new();
+/// Ids of the nodes whose processes are alive (a restarted process has a
+/// new id; names may repeat); removes dead nodes' resources.
+fn alive_node_ids() -> HashSet<u128> {
+    let mut alive = HashSet::new();
     let _ = Node::<Svc>::list(Config::global_config(), |state| {
         match state {
             NodeState::Alive(view) => {
-                if let Some(d) = view.details() {
-                    alive.push((d.name().as_str().to_string(), *view.id()));
-                }
+                alive.insert(view.id().value());
             }
             NodeState::Dead(view) => {
                 let _ = view.try_remove_stale_resources();
@@ -204,33 +206,56 @@ fn sweep_of(hash: &str) -> String {
     hash[..hash.len().min(16)].to_string()
 }
 
-/// A welcome sample: the sweep id's length, the id, then the message.
-fn frame_welcome(sweep: &str, message: &[u8]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(1 + sweep.len() + message.len());
+/// A welcome sample: the sweep id's length, the id, the coordinator's node
+/// id (16 bytes, little-endian), then the message.
+fn frame_welcome(sweep: &str, coordinator: u128, message: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(17 + sweep.len() + message.len());
     out.push(sweep.len() as u8);
     out.extend_from_slice(sweep.as_bytes());
+    out.extend_from_slice(&coordinator.to_le_bytes());
     out.extend_from_slice(message);
     out
 }
 
-/// Splits a welcome sample into the sweep id and the message.
-fn split_welcome(bytes: &[u8]) -> Option<(String, &[u8])> {
+/// A welcome sample taken apart.
+#[derive(Debug, PartialEq)]
+struct Welcome<'a> {
+    /// The sweep id (names the sweep's services).
+    sweep: String,
+    /// The node id of the coordinator that published it.
+    coordinator: u128,
+    /// The encoded [`ToWorker::Welcome`].
+    message: &'a [u8],
+}
+
+/// Splits a welcome sample into the sweep id, the coordinator and the message.
+fn split_welcome(bytes: &[u8]) -> Option<Welcome<'_>> {
     let (&len, rest) = bytes.split_first()?;
     let len = len as usize;
     let sweep = std::str::from_utf8(rest.get(..len)?).ok()?;
+    let id: [u8; 16] = rest.get(len..len + 16)?.try_into().ok()?;
     let valid = sweep.chars().all(|c| c.is_ascii_alphanumeric());
-    valid.then(|| (sweep.to_string(), &rest[len..]))
+    valid.then(|| Welcome {
+        sweep: sweep.to_string(),
+        coordinator: u128::from_le_bytes(id),
+        message: &rest[len + 16..],
+    })
 }
 
 /// A worker message on the shared result channel, with its sender.
 #[derive(Debug, Serialize, Deserialize)]
 struct Envelope {
+    /// The worker's name.
     from: String,
+    /// The worker's node id, by which the coordinator watches its liveness.
+    node: u128,
+    /// The message.
     msg: FromWorker,
 }
 
 struct RemoteWorker {
     name: String,
+    node: u128,
     tasks: Pub,
     wake: Ntf,
     _keep: (Keep, Keep),
@@ -274,7 +299,7 @@ impl IceoryxCoordinator {
     }
 
     fn on_message(&mut self, bytes: &[u8]) -> Result<(), TransportError> {
-        let Envelope { from, msg } = match codec::decode::<Envelope>(bytes) {
+        let Envelope { from, node, msg } = match codec::decode::<Envelope>(bytes) {
             Ok(e) => e,
             Err(e) => {
                 let reason = format!("message on the result channel: {e}");
@@ -286,7 +311,7 @@ impl IceoryxCoordinator {
         match (msg, worker) {
             (FromWorker::Hello { threads, study, .. }, _) => {
                 match study_refusal(study.as_deref(), &self.study_hash) {
-                    None => self.on_hello(&from, threads)?,
+                    None => self.on_hello(&from, node, threads)?,
                     Some(why) => {
                         let reason = format!("worker {from} refused: {why}");
                         self.pending.push_back(TransportEvent::Rejected { reason });
@@ -315,7 +340,7 @@ impl IceoryxCoordinator {
         Ok(())
     }
 
-    fn on_hello(&mut self, name: &str, threads: u32) -> Result<(), TransportError> {
+    fn on_hello(&mut self, name: &str, node_id: u128, threads: u32) -> Result<(), TransportError> {
         if self.by_name.contains_key(name) {
             return Ok(());
         }
@@ -336,7 +361,8 @@ impl IceoryxCoordinator {
         let id = WorkerId(self.next_id);
         self.next_id += 1;
         let _keep = (Box::new(factory) as Keep, wake_keep);
-        self.workers.insert(id, RemoteWorker { name: name.to_string(), tasks, wake, _keep });
+        let worker = RemoteWorker { name: name.to_string(), node: node_id, tasks, wake, _keep };
+        self.workers.insert(id, worker);
         self.by_name.insert(name.to_string(), id);
         self.pending.push_back(TransportEvent::Joined {
             worker: id,
@@ -351,11 +377,11 @@ impl IceoryxCoordinator {
             return;
         }
         self.last_liveness = Instant::now();
-        let alive = alive_nodes();
+        let alive = alive_node_ids();
         let gone: Vec<(WorkerId, String)> = self
             .workers
             .iter()
-            .filter(|(_, w)| !alive.contains(&worker_node_name(&w.name)))
+            .filter(|(_, w)| !alive.contains(&w.node))
             .map(|(id, w)| (*id, w.name.clone()))
             .collect();
         for (id, name) in gone {
@@ -383,17 +409,8 @@ impl Transport for IceoryxCoordinator {
         self.sweep = sweep_of(study_hash);
         self.study_hash = study_hash.to_string();
         let node = node(&coordinator_node_name(&self.sweep))?;
-        let welcome_factory =
-            channel(&node, &format!("{}/welcome", self.root), 1, 1, 1, true, MAX_WORKERS)?;
-        let welcome = publisher(&welcome_factory)?;
-        let bytes = codec::encode(&ToWorker::Welcome {
-            study_hash: study_hash.to_string(),
-            model: model.clone(),
-        })
-        .map_err(|e| TransportError::Setup(e.to_string()))?;
-        let bytes = frame_welcome(&self.sweep, &bytes);
-        send(&welcome, &bytes)?;
-        self.welcome_bytes = bytes;
+        // The result subscriber and its wake-up exist before any worker can
+        // read the welcome: a Hello sent with no subscriber would be lost.
         let results_factory = channel(
             &node,
             &format!("{}/{}/result", self.root, self.sweep),
@@ -406,8 +423,19 @@ impl Transport for IceoryxCoordinator {
         let results = subscriber(&results_factory, RESULT_BUFFER)?;
         let ready_name = format!("{}/{}/result-ready", self.root, self.sweep);
         self.ready = Some(listener(&node, &ready_name, MAX_WORKERS)?);
-        self.welcome = Some((welcome, Box::new(welcome_factory)));
         self.results = Some((results, Box::new(results_factory)));
+        let welcome_factory =
+            channel(&node, &format!("{}/welcome", self.root), 1, 1, 1, true, MAX_WORKERS)?;
+        let welcome = publisher(&welcome_factory)?;
+        let bytes = codec::encode(&ToWorker::Welcome {
+            study_hash: study_hash.to_string(),
+            model: model.clone(),
+        })
+        .map_err(|e| TransportError::Setup(e.to_string()))?;
+        let bytes = frame_welcome(&self.sweep, node.id().value(), &bytes);
+        send(&welcome, &bytes)?;
+        self.welcome_bytes = bytes;
+        self.welcome = Some((welcome, Box::new(welcome_factory)));
         self.node = Some(node);
         Ok(())
     }
@@ -478,7 +506,7 @@ pub struct IceoryxWorker {
     welcome: Option<(Sub, Box<dyn std::any::Any + Send>)>,
     tasks: Option<(Sub, Lst, Keep, Keep)>,
     results: Option<Arc<Mutex<ResultPort>>>,
-    coordinator: Option<UniqueNodeId>,
+    coordinator: Option<u128>,
     last_liveness: Instant,
 }
 
@@ -486,6 +514,7 @@ pub struct IceoryxWorker {
 /// from the pool threads.
 struct ResultPort {
     from: String,
+    node: u128,
     publisher: Pub,
     wake: Ntf,
     _keep: (Keep, Keep),
@@ -493,7 +522,7 @@ struct ResultPort {
 
 impl ResultPort {
     fn publish(&self, msg: FromWorker) -> Result<(), TransportError> {
-        let env = Envelope { from: self.from.clone(), msg };
+        let env = Envelope { from: self.from.clone(), node: self.node, msg };
         send(
             &self.publisher,
             &codec::encode(&env).map_err(|e| TransportError::Setup(e.to_string()))?,
@@ -568,6 +597,7 @@ impl IceoryxWorker {
     fn open_results(&mut self) -> Result<(), TransportError> {
         let (root, sweep, from) = (self.root.clone(), self.sweep.clone(), self.name.clone());
         let node = self.node()?;
+        let node_id = node.id().value();
         let rf = channel(
             node,
             &format!("{root}/{sweep}/result"),
@@ -579,7 +609,7 @@ impl IceoryxWorker {
         )?;
         let publisher = publisher(&rf)?;
         let (wake, keep) = notifier(node, &format!("{root}/{sweep}/result-ready"), MAX_WORKERS)?;
-        let port = ResultPort { from, publisher, wake, _keep: (Box::new(rf), keep) };
+        let port = ResultPort { from, node: node_id, publisher, wake, _keep: (Box::new(rf), keep) };
         self.results = Some(Arc::new(Mutex::new(port)));
         Ok(())
     }
@@ -614,16 +644,16 @@ impl WorkerLink for IceoryxWorker {
             .collect();
         self.threads = request.threads.max(1);
         let Some(bytes) = self.latest_welcome(timeout)? else { return Ok(None) };
-        let Some((sweep, message)) = split_welcome(&bytes) else {
+        let Some(Welcome { sweep, coordinator, message }) = split_welcome(&bytes) else {
             tracing::warn!(len = bytes.len(), "dropped a malformed welcome");
             return Ok(None);
         };
-        let wanted = coordinator_node_name(&sweep);
-        let Some((_, id)) = alive_node_ids().into_iter().find(|(name, _)| *name == wanted) else {
-            // A welcome left by a coordinator that is gone.
+        if !alive_node_ids().contains(&coordinator) {
+            // A welcome left by a coordinator that is gone (maybe of the same
+            // sweep, before a resume): its result channel may have no reader.
             return Ok(None);
-        };
-        self.coordinator = Some(id);
+        }
+        self.coordinator = Some(coordinator);
         self.sweep = sweep;
         self.open_results()?;
         let refusal = match codec::decode::<ToWorker>(message) {
@@ -677,7 +707,7 @@ impl WorkerLink for IceoryxWorker {
                 self.last_liveness = Instant::now();
                 // Gone, or restarted under the same name (a new node id).
                 let alive = alive_node_ids();
-                if !alive.iter().any(|(_, id)| Some(*id) == self.coordinator) {
+                if !self.coordinator.is_some_and(|id| alive.contains(&id)) {
                     return Ok(LinkEvent::CoordinatorGone);
                 }
             }
@@ -723,3 +753,7 @@ impl WorkerLink for IceoryxWorker {
 #[cfg(test)]
 #[path = "iceoryx2_refusals_tests.rs"]
 mod refusals_tests;
+
+#[cfg(test)]
+#[path = "iceoryx2_join_tests.rs"]
+mod join_tests;
