@@ -30,4 +30,5 @@ pub use messages::*;
 pub use transport::{Transport, TransportError, TransportEvent, WorkerId};
 
 /// Version of the message layout; peers with another version are refused.
-pub const PROTOCOL_VERSION: u16 = 1;
+/// 2: iceoryx2 welcomes and worker messages carry node ids.
+pub const PROTOCOL_VERSION: u16 = 2;
