@@ -147,34 +147,13 @@ mod tests {
 mod gradient_tests {
     use super::*;
     use crate::calibration::posterior::fd_gradient;
-    use crate::calibration::{LogDensity, Posterior, Prediction, UniformBox};
-    use nalgebra::DMatrix;
-
-    /// eta(a, b) = (a + b/2, a b, sin a) with its Jacobian.
-    struct Smooth;
-    impl Simulator for Smooth {
-        fn n_params(&self) -> usize {
-            2
-        }
-        fn n_outputs(&self) -> usize {
-            3
-        }
-        fn predict(&self, t: &[f64]) -> Result<Prediction, CalibError> {
-            Ok(Prediction {
-                mean: vec![t[0] + 0.5 * t[1], t[0] * t[1], t[0].sin()],
-                variance: None,
-            })
-        }
-        fn jacobian(&self, t: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
-            let j = DMatrix::from_row_slice(3, 2, &[1.0, 0.5, t[1], t[0], t[0].cos(), 0.0]);
-            Some(self.predict(t).map(|p| (p, j)))
-        }
-    }
+    use crate::calibration::simulator::test_support::Smooth;
+    use crate::calibration::{LogDensity, Posterior, UniformBox};
 
     #[test]
     fn analytic_gradient_matches_central_differences() {
         for noise in [Hyper::Fixed(0.3), Hyper::Inferred] {
-            let lik = GaussianLikelihood::new(Smooth, vec![1.1, 0.4, 0.8], noise)
+            let lik = GaussianLikelihood::new(Smooth(true), vec![1.1, 0.4, 0.8], noise)
                 .unwrap()
                 .with_noise_scale(vec![1.0, 0.5, 2.0])
                 .unwrap();

@@ -220,6 +220,7 @@ impl<S: Simulator> Likelihood for KohLikelihood<S> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::calibration::simulator::test_support::Smooth;
     use crate::calibration::{FnSimulator, GaussianLikelihood};
 
     fn settings(d: f64) -> KohSettings {
@@ -228,27 +229,6 @@ mod tests {
             noise_sd: Hyper::Fixed(0.3),
             disc_sd: Hyper::Fixed(d),
             disc_length: Hyper::Fixed(0.5),
-        }
-    }
-
-    /// eta(t) = (t0 + t1 x, t0 t1, sin t0) with its exact Jacobian.
-    struct Smooth;
-    impl Simulator for Smooth {
-        fn n_params(&self) -> usize {
-            2
-        }
-        fn n_outputs(&self) -> usize {
-            3
-        }
-        fn predict(&self, t: &[f64]) -> Result<Prediction, CalibError> {
-            Ok(Prediction {
-                mean: vec![t[0] + 0.5 * t[1], t[0] * t[1], t[0].sin()],
-                variance: None,
-            })
-        }
-        fn jacobian(&self, t: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
-            let j = DMatrix::from_row_slice(3, 2, &[1.0, 0.5, t[1], t[0], t[0].cos(), 0.0]);
-            Some(self.predict(t).map(|p| (p, j)))
         }
     }
 
@@ -263,7 +243,7 @@ mod tests {
             disc_length: Hyper::Inferred,
         };
         let x = vec![vec![1.0], vec![2.0], vec![3.0]];
-        let lik = KohLikelihood::new(Smooth, x, vec![1.1, 0.4, 0.8], s)
+        let lik = KohLikelihood::new(Smooth(true), x, vec![1.1, 0.4, 0.8], s)
             .unwrap()
             .with_noise_scale(vec![0.1, 0.05, 0.2])
             .unwrap();

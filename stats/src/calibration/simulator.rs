@@ -338,3 +338,31 @@ mod linear_map_tests {
         assert!((white - log_det_l - full).abs() < 1e-12, "{white} {full}");
     }
 }
+
+/// Test simulators shared by the likelihood and selection tests.
+#[cfg(test)]
+pub mod test_support {
+    use super::*;
+
+    /// eta(a, b) = (a + b/2, a b, sin a), with its exact Jacobian when the flag is set.
+    pub struct Smooth(pub bool);
+
+    impl Simulator for Smooth {
+        fn n_params(&self) -> usize {
+            2
+        }
+        fn n_outputs(&self) -> usize {
+            3
+        }
+        fn predict(&self, t: &[f64]) -> Result<Prediction, CalibError> {
+            Ok(Prediction {
+                mean: vec![t[0] + 0.5 * t[1], t[0] * t[1], t[0].sin()],
+                variance: None,
+            })
+        }
+        fn jacobian(&self, t: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
+            let j = DMatrix::from_row_slice(3, 2, &[1.0, 0.5, t[1], t[0], t[0].cos(), 0.0]);
+            self.0.then(|| self.predict(t).map(|p| (p, j)))
+        }
+    }
+}

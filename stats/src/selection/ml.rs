@@ -88,31 +88,8 @@ fn gradient_fit<L: Likelihood>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::calibration::{
-        CalibError, Hyper, KohLikelihood, KohSettings, Prediction, Simulator,
-    };
-    use nalgebra::DMatrix;
-
-    /// eta(a, b) = (a + b/2, a b, sin a), with or without its Jacobian.
-    struct Smooth(bool);
-    impl Simulator for Smooth {
-        fn n_params(&self) -> usize {
-            2
-        }
-        fn n_outputs(&self) -> usize {
-            3
-        }
-        fn predict(&self, t: &[f64]) -> Result<Prediction, CalibError> {
-            Ok(Prediction {
-                mean: vec![t[0] + 0.5 * t[1], t[0] * t[1], t[0].sin()],
-                variance: None,
-            })
-        }
-        fn jacobian(&self, t: &[f64]) -> Option<Result<(Prediction, DMatrix<f64>), CalibError>> {
-            let j = DMatrix::from_row_slice(3, 2, &[1.0, 0.5, t[1], t[0], t[0].cos(), 0.0]);
-            self.0.then(|| self.predict(t).map(|p| (p, j)))
-        }
-    }
+    use crate::calibration::simulator::test_support::Smooth;
+    use crate::calibration::{Hyper, KohLikelihood, KohSettings};
 
     fn lik(with_jacobian: bool) -> KohLikelihood<Smooth> {
         let s = KohSettings {
