@@ -563,19 +563,34 @@ fn write_outputs<L: Likelihood>(
         .zip(&s.marginals)
         .map(|(n, m)| (n.clone(), serde_json::to_value(m).unwrap_or_default()))
         .collect();
+    write_posterior(out, method, params, res, serde_json::Map::new())?;
+    write(out, "predictive.csv", &predictive(p, post, res)?)
+}
+
+/// posterior.json (`parameters` as given, the correlation, method, ELBO,
+/// diagnostics, then `extra` fields), samples.csv and, for BBVI, elbo.csv.
+pub fn write_posterior(
+    out: &Path,
+    method: &str,
+    parameters: serde_json::Map<String, serde_json::Value>,
+    res: &stats::calibration::CalibrationResult,
+    extra: serde_json::Map<String, serde_json::Value>,
+) -> anyhow::Result<()> {
+    let s = &res.summary;
     let d = s.names.len();
     let matrix: Vec<Vec<f64>> =
         (0..d).map(|i| (0..d).map(|j| s.correlation[(i, j)]).collect()).collect();
-    let json = serde_json::json!({
-        "parameters": params,
+    let mut json = serde_json::json!({
+        "parameters": parameters,
         "correlation": { "names": s.names, "matrix": matrix },
         "method": method,
         "elbo": res.elbo,
         "diagnostics": res.diagnostics,
     });
-    let path = out.join("posterior.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&json)? + "\n")
-        .with_context(|| format!("{}: cannot write", path.display()))?;
+    if let Some(obj) = json.as_object_mut() {
+        obj.extend(extra);
+    }
+    write(out, "posterior.json", &(serde_json::to_string_pretty(&json)? + "\n"))?;
     let mut text = s.names.join(",") + "\n";
     for d in &res.draws {
         text += &(d.iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(",") + "\n");
@@ -587,7 +602,7 @@ fn write_outputs<L: Likelihood>(
             .collect();
         write(out, "elbo.csv", &text)?;
     }
-    write(out, "predictive.csv", &predictive(p, post, res)?)
+    Ok(())
 }
 
 fn write(out: &Path, name: &str, text: &str) -> anyhow::Result<()> {

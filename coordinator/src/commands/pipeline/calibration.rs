@@ -198,40 +198,16 @@ fn predictive(
         .collect())
 }
 
-/// posterior.json (as `ceilfarm calibrate` writes it), samples.csv,
-/// elbo.csv (BBVI) and predictive.json.
+/// posterior.json (as `ceilfarm calibrate` writes it, each parameter with
+/// its prior range and sd ratio, plus the predictive), samples.csv and
+/// elbo.csv (BBVI).
 pub fn write_posterior(out: &std::path::Path, method: &str, cal: &Calibration) -> Result<()> {
-    let r = &cal.result;
-    let s = &r.summary;
-    let params: serde_json::Map<String, serde_json::Value> = cal
+    let params = cal
         .rows
         .iter()
         .map(|row| Ok((row.name.clone(), serde_json::to_value(row)?)))
         .collect::<Result<_, serde_json::Error>>()?;
-    let d = s.names.len();
-    let matrix: Vec<Vec<f64>> =
-        (0..d).map(|i| (0..d).map(|j| s.correlation[(i, j)]).collect()).collect();
-    let json = serde_json::json!({
-        "parameters": params,
-        "correlation": { "names": s.names, "matrix": matrix },
-        "method": method,
-        "elbo": r.elbo,
-        "diagnostics": r.diagnostics,
-        "predictive": cal.predictive,
-    });
-    let write = |name: &str, text: String| -> Result<()> {
-        let p = out.join(name);
-        std::fs::write(&p, text).map_err(|e| anyhow!("{}: cannot write: {e}", p.display()))
-    };
-    write("posterior.json", serde_json::to_string_pretty(&json)? + "\n")?;
-    let mut text = s.names.join(",") + "\n";
-    for t in &r.draws {
-        text += &(t.iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(",") + "\n");
-    }
-    write("samples.csv", text)?;
-    if !r.elbo_trace.is_empty() {
-        let lines = r.elbo_trace.iter().enumerate().map(|(i, e)| format!("{},{e}\n", i + 1));
-        write("elbo.csv", std::iter::once("iteration,elbo\n".to_string()).chain(lines).collect())?;
-    }
-    Ok(())
+    let mut extra = serde_json::Map::new();
+    extra.insert("predictive".into(), serde_json::to_value(&cal.predictive)?);
+    crate::commands::calibrate::write_posterior(out, method, params, &cal.result, extra)
 }
