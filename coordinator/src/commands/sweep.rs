@@ -7,18 +7,9 @@ use coordinator::study::{format_value, Study, TransportKind};
 use coordinator::sweep::{run_sweep, SweepOptions};
 use std::path::PathBuf;
 
-/// `ceilfarm run`: run or resume a sweep.
+/// How a sweep is farmed out: the options `run` and `pipeline` share.
 #[derive(Args)]
-pub struct RunArgs {
-    /// The study file (TOML).
-    pub study: PathBuf,
-    /// The dataset store (SQLite) to create or, with --resume, to finish.
-    #[arg(long)]
-    pub store: PathBuf,
-    /// Finish an interrupted sweep: run only what the store is missing
-    /// (starts afresh if the store does not exist yet).
-    #[arg(long)]
-    pub resume: bool,
+pub struct FarmArgs {
     /// Number of workers (default: the study's, else the machine's cores).
     #[arg(long)]
     pub workers: Option<usize>,
@@ -32,6 +23,40 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+}
+
+impl FarmArgs {
+    /// Sweep options for `store`; refuses `--workers 0`.
+    pub fn options(&self, store: PathBuf, resume: bool) -> Result<SweepOptions> {
+        if self.workers == Some(0) {
+            bail!("--workers 0: expected at least 1 worker");
+        }
+        Ok(SweepOptions {
+            store,
+            resume,
+            workers: self.workers,
+            quiet: self.quiet,
+            transport: self.transport,
+            endpoint: self.endpoint.clone(),
+        })
+    }
+}
+
+/// `ceilfarm run`: run or resume a sweep.
+#[derive(Args)]
+pub struct RunArgs {
+    /// The study file (TOML).
+    pub study: PathBuf,
+    /// The dataset store (SQLite) to create or, with --resume, to finish.
+    #[arg(long)]
+    pub store: PathBuf,
+    /// Finish an interrupted sweep: run only what the store is missing
+    /// (starts afresh if the store does not exist yet).
+    #[arg(long)]
+    pub resume: bool,
+    /// Workers, transport, progress.
+    #[command(flatten)]
+    pub farm: FarmArgs,
     /// Print a JSON summary on stdout.
     #[arg(long)]
     pub json: bool,
@@ -40,21 +65,11 @@ pub struct RunArgs {
 /// `ceilfarm run`.
 pub fn run(args: RunArgs) -> Result<()> {
     let study = Study::load(&args.study)?;
-    if args.workers == Some(0) {
-        bail!("--workers 0: expected at least 1 worker");
-    }
-    let opts = SweepOptions {
-        store: args.store,
-        resume: args.resume,
-        workers: args.workers,
-        quiet: args.quiet,
-        transport: args.transport,
-        endpoint: args.endpoint,
-    };
+    let opts = args.farm.options(args.store, args.resume)?;
     let report = run_sweep(&study, &opts)?;
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
-    } else if !args.quiet {
+    } else if !args.farm.quiet {
         eprintln!(
             "{}: {} runs in the store ({} before this run, {} ok and {} failed now) in {:.2} s with {} workers",
             report.store, report.tasks, report.already_done, report.ok, report.failed, report.wall_s, report.workers

@@ -12,11 +12,11 @@ pub mod report;
 pub mod screening;
 pub mod selection;
 
+use crate::commands::sweep::FarmArgs;
 use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
 use config::PipelineConfig;
-use coordinator::study::TransportKind;
-use coordinator::sweep::{run_sweep, SweepOptions};
+use coordinator::sweep::run_sweep;
 use stats::calibration::GpEmulator;
 use std::path::{Path, PathBuf};
 
@@ -29,18 +29,9 @@ pub struct Args {
     /// Output folder (sweep.db and one file per stage); rerun to resume.
     #[arg(long)]
     pub out: PathBuf,
-    /// Number of workers (default: the study's, else the machine's cores).
-    #[arg(long)]
-    pub workers: Option<usize>,
-    /// Transport of the sweep (default: the study's, else in-process).
-    #[arg(long, value_enum)]
-    pub transport: Option<TransportKind>,
-    /// Coordinator endpoint (zenoh) or service prefix (iceoryx2).
-    #[arg(long)]
-    pub endpoint: Option<String>,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
+    /// Workers, transport, progress (as for `run`).
+    #[command(flatten)]
+    pub farm: FarmArgs,
 }
 
 /// Writes `text` to `dir/name`.
@@ -54,18 +45,11 @@ pub fn run(args: Args) -> Result<()> {
     let cfg = PipelineConfig::load(&args.config)?;
     let out = &args.out;
     std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create", out.display()))?;
-    let mut stages = report::Stages::new(args.quiet);
+    let mut stages = report::Stages::new(args.farm.quiet);
 
     stages.start("sweep");
     let store = out.join("sweep.db");
-    let opts = SweepOptions {
-        store: store.clone(),
-        resume: true,
-        workers: args.workers,
-        quiet: args.quiet,
-        transport: args.transport,
-        endpoint: args.endpoint.clone(),
-    };
+    let opts = args.farm.options(store.clone(), true)?;
     let sweep = run_sweep(&cfg.study, &opts)?;
     stages.done(&format!("{} runs ({} failed now) in the store", sweep.tasks, sweep.failed));
 
