@@ -350,7 +350,7 @@ fn gp_simulator(
     let path = sim.file.as_ref().ok_or_else(|| {
         bad(&file, "simulator.file", "(missing)", "the GP model file for kind = \"gp\"")
     })?;
-    let (model, _) = crate::commands::gp::load_model(&resolve(config, path)?)?;
+    let model = crate::commands::gp::read_model_file(&resolve(config, path)?)?;
     if sim.outputs.len() != n_rows {
         return Err(bad(
             &file,

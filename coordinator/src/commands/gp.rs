@@ -380,6 +380,20 @@ fn fit_all_shared(
 
 /// Load a model file and factor each output's GP.
 pub fn load_model(path: &Path) -> anyhow::Result<(ModelFile, Vec<Gp>)> {
+    let file = read_model_file(path)?;
+    let gps = file
+        .outputs
+        .iter()
+        .map(|o| {
+            Gp::from_model(o.gp.clone())
+                .with_context(|| format!("{}: output {}", path.display(), o.name))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    Ok((file, gps))
+}
+
+/// Read and check a model file without factoring its GPs.
+pub fn read_model_file(path: &Path) -> anyhow::Result<ModelFile> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read", path.display()))?;
     let file: ModelFile = serde_json::from_str(&text)
@@ -391,15 +405,7 @@ pub fn load_model(path: &Path) -> anyhow::Result<(ModelFile, Vec<Gp>)> {
             file.format
         );
     }
-    let gps = file
-        .outputs
-        .iter()
-        .map(|o| {
-            Gp::from_model(o.gp.clone())
-                .with_context(|| format!("{}: output {}", path.display(), o.name))
-        })
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    Ok((file, gps))
+    Ok(file)
 }
 
 fn predict_cmd(a: PredictArgs) -> anyhow::Result<()> {
