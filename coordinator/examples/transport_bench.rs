@@ -181,6 +181,10 @@ fn farm_run(
     let end = Instant::now();
     stop(children);
     let cpu = cpu_s() - c0;
+    if std::env::var_os("BENCH_CPU_SPLIT").is_some() {
+        let (own, kids) = cpu::cpu_s();
+        eprintln!("{} x{workers}: own total {own:.2} s, children total {kids:.2} s", setup.kind.as_str());
+    }
     assert_eq!(s.ok, n, "every task once");
     // A run so short that it ended before every worker was in: time it all.
     let full = clock.full.unwrap_or(start);
@@ -236,7 +240,7 @@ fn main() {
     }
 }
 
-/// Two-worker speed-up of a study's sweep over iceoryx2 processes and in-process.
+/// Two-worker speed-up of a study's sweep over each transport.
 fn speedup(bin: &str, path: &str, repeats: usize, run: &mut usize) {
     let study = Study::load(std::path::Path::new(path)).expect("study");
     if worker::registry::kinds().iter().all(|k| *k != study.model_kind) {
@@ -260,7 +264,8 @@ fn speedup(bin: &str, path: &str, repeats: usize, run: &mut usize) {
     println!(
         "(cpu = coordinator + workers, ms per task; load = 1-min load average before the runs)"
     );
-    for kind in [TransportKind::InProcess, TransportKind::Iceoryx2] {
+    direct_speedup(&spec, &tasks, repeats);
+    for kind in KINDS {
         let (mut walls, mut cpus) = ([vec![], vec![]], [vec![], vec![]]);
         let load = load_average();
         for _ in 0..repeats {
@@ -288,6 +293,44 @@ fn speedup(bin: &str, path: &str, repeats: usize, run: &mut usize) {
             c2 * 1e3,
         );
     }
+}
+
+/// The machine's own ceiling: the same tasks on 1 and 2 plain threads, each
+/// thread with its own model and no farm, no transport, no store.
+fn direct_speedup(spec: &ModelSpec, tasks: &[Task], repeats: usize) {
+    let load = load_average();
+    let (mut one, mut two) = (vec![], vec![]);
+    for _ in 0..repeats {
+        one.push(direct_run(spec, tasks, 1));
+        two.push(direct_run(spec, tasks, 2));
+    }
+    let ratios: Vec<String> = one.iter().zip(&two).map(|(a, b)| format!("{:.2}", a / b)).collect();
+    let (a, b) = (median(one), median(two));
+    println!(
+        "{:<11} 1 thread {:>8.3} s   2 threads {:>7.3} s   speed-up {:.2} (each {})   load {load:.2}",
+        "no farm",
+        a,
+        b,
+        a / b,
+        ratios.join(" ")
+    );
+}
+
+/// Wall seconds to run `tasks` split round-robin over `threads` plain threads.
+fn direct_run(spec: &ModelSpec, tasks: &[Task], threads: usize) -> f64 {
+    let start = Instant::now();
+    std::thread::scope(|scope| {
+        for t in 0..threads {
+            scope.spawn(move || {
+                let model = worker::registry::build(spec).expect("model");
+                for task in tasks.iter().skip(t).step_by(threads) {
+                    let out = worker::run::run_task(&*model, &spec.param_names, task.id, &task.params);
+                    assert!(matches!(out, protocol::Outcome::Ok(_)), "task {:?} failed", task.id);
+                }
+            });
+        }
+    });
+    start.elapsed().as_secs_f64()
 }
 
 /// The 1-minute load average (0 if unknown).
