@@ -4,8 +4,9 @@
 
 use super::error::GpError;
 use super::kernel::{Kernel, KernelKind};
-use super::lbfgs::{minimise, LbfgsSettings};
-use super::likelihood::{factor, lml_and_grad_warped, lml_from_factor};
+use super::lbfgs::{minimise, LbfgsResult, LbfgsSettings};
+use super::likelihood::{factor, lml_from_factor};
+use super::lml_workspace::LmlWorkspace;
 use super::mean::{MeanKind, Trend};
 use super::model::{FitReport, Gp, GpModel};
 use super::scaling::{InputScaling, OutputScaling};
@@ -231,7 +232,17 @@ pub fn fit_shared(
         .collect()
 }
 
-/// Maximise the LML over θ from all starts; the best θ and a report.
+/// Iterations every start gets before the starts are pruned.
+pub const PROBE_ITERATIONS: usize = 15;
+/// Starts that continue after the probe (the best by LML).
+pub const SURVIVORS: usize = 2;
+
+/// Maximise the LML over θ from all starts; the best θ and a report. With
+/// more than [`SURVIVORS`] starts, every start first runs
+/// [`PROBE_ITERATIONS`] L-BFGS iterations and only the [`SURVIVORS`] best
+/// continue to convergence (successive halving: a start that is far
+/// behind after the probe seldom overtakes, and each start costs O(n³)
+/// per evaluation).
 fn optimise(
     xs: &[f64],
     d: usize,
@@ -241,51 +252,94 @@ fn optimise(
 ) -> Result<(Vec<f64>, FitReport), GpError> {
     let nw = ratios.iter().filter(|r| r.is_some()).count();
     let starts = set.starts(d, nw);
-    let (lo, hi) = set.log_bounds(d, nw);
-    let refs: Vec<&[f64]> = ys.iter().map(|y| y.as_slice()).collect();
-    let next = AtomicUsize::new(0);
-    let results = Mutex::new(Vec::new());
-    let threads = if set.threads == 0 {
-        std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
-    } else {
-        set.threads
-    }
-    .min(starts.len());
-    std::thread::scope(|scope| {
-        for _ in 0..threads {
-            scope.spawn(|| loop {
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                if i >= starts.len() {
-                    break;
-                }
-                let obj = |t: &[f64]| {
-                    lml_and_grad_warped(set.kernel, ratios, t, xs, d, &refs)
-                        .ok()
-                        .map(|(v, g)| (-v, g.into_iter().map(|x| -x).collect()))
-                };
-                let r = minimise(obj, &starts[i], &lo, &hi, &set.lbfgs);
-                results.lock().expect("results lock").push((i, r));
-            });
+    let problem = Problem { xs, d, ys, ratios, set, bounds: set.log_bounds(d, nw) };
+    let mut results = if starts.len() > SURVIVORS {
+        let probe = LbfgsSettings { max_iter: PROBE_ITERATIONS, ..set.lbfgs };
+        let first = problem.run(&starts, &probe);
+        let mut order: Vec<usize> = (0..first.len()).filter(|i| first[*i].is_some()).collect();
+        order.sort_by(|a, b| f_of(&first[*a]).total_cmp(&f_of(&first[*b])));
+        order.truncate(SURVIVORS);
+        let from: Vec<Vec<f64>> =
+            order.iter().filter_map(|i| first[*i].as_ref().map(|r| r.x.clone())).collect();
+        let second = problem.run(&from, &set.lbfgs);
+        let mut merged = first;
+        for (i, r) in order.into_iter().zip(second) {
+            let spent = merged[i].as_ref().map_or(0, |p| p.evaluations);
+            merged[i] = r.map(|r| LbfgsResult { evaluations: r.evaluations + spent, ..r });
         }
-    });
-    let mut results = results.into_inner().expect("results lock");
-    results.sort_by_key(|(i, _)| *i);
-    let evaluations = results.iter().filter_map(|(_, r)| r.as_ref().map(|r| r.evaluations)).sum();
-    let lmls: Vec<Option<f64>> = results.iter().map(|(_, r)| r.as_ref().map(|r| -r.f)).collect();
-    let best = results
-        .into_iter()
-        .filter_map(|(i, r)| r.map(|r| (i, r)))
-        .min_by(|a, b| a.1.f.total_cmp(&b.1.f))
+        merged
+    } else {
+        problem.run(&starts, &set.lbfgs)
+    };
+    let evaluations = results.iter().flatten().map(|r| r.evaluations).sum();
+    let lmls: Vec<Option<f64>> = results.iter().map(|r| r.as_ref().map(|r| -r.f)).collect();
+    let best = (0..results.len())
+        .filter(|i| results[*i].is_some())
+        .min_by(|a, b| f_of(&results[*a]).total_cmp(&f_of(&results[*b])))
         .ok_or(GpError::NoFiniteStart { starts: starts.len() })?;
+    let r = results.swap_remove(best).expect("finite");
     let report = FitReport {
         starts: starts.len(),
-        best_start: best.0,
-        lml: -best.1.f,
+        best_start: best,
+        lml: -r.f,
         start_lmls: lmls,
         evaluations,
         jitter: 0.0,
     };
-    Ok((best.1.x, report))
+    Ok((r.x, report))
+}
+
+/// The minimised value of a start (+∞ when it failed).
+fn f_of(r: &Option<LbfgsResult>) -> f64 {
+    r.as_ref().map_or(f64::INFINITY, |r| r.f)
+}
+
+/// The negative LML to minimise, with its data and bounds.
+struct Problem<'a> {
+    xs: &'a [f64],
+    d: usize,
+    ys: &'a [Vec<f64>],
+    ratios: &'a [Option<f64>],
+    set: &'a GpSettings,
+    bounds: (Vec<f64>, Vec<f64>),
+}
+
+impl Problem<'_> {
+    /// Minimises from every start on the configured threads (results in
+    /// start order; None where the LML is undefined at the start).
+    fn run(&self, starts: &[Vec<f64>], lbfgs: &LbfgsSettings) -> Vec<Option<LbfgsResult>> {
+        let refs: Vec<&[f64]> = self.ys.iter().map(|y| y.as_slice()).collect();
+        let next = AtomicUsize::new(0);
+        let results = Mutex::new(Vec::new());
+        let threads = if self.set.threads == 0 {
+            std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+        } else {
+            self.set.threads
+        }
+        .min(starts.len());
+        let (lo, hi) = &self.bounds;
+        std::thread::scope(|scope| {
+            for _ in 0..threads {
+                scope.spawn(|| loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    if i >= starts.len() {
+                        break;
+                    }
+                    let mut ws = LmlWorkspace::default();
+                    let obj = |t: &[f64]| {
+                        ws.lml_and_grad(self.set.kernel, self.ratios, t, self.xs, self.d, &refs)
+                            .ok()
+                            .map(|(v, g)| (-v, g.into_iter().map(|x| -x).collect()))
+                    };
+                    let r = minimise(obj, &starts[i], lo, hi, lbfgs);
+                    results.lock().expect("results lock").push((i, r));
+                });
+            }
+        });
+        let mut results = results.into_inner().expect("results lock");
+        results.sort_by_key(|(i, _)| *i);
+        results.into_iter().map(|(_, r)| r).collect()
+    }
 }
 
 /// Log marginal likelihood of the standardised training data at the

@@ -1,9 +1,12 @@
 //! A small box-constrained L-BFGS: the two-loop recursion (Nocedal and
 //! Wright, *Numerical Optimization*, 2006, alg. 7.4) on the free variables,
-//! a projected Armijo backtracking line search, and the L-BFGS-B stopping
-//! rules (projected gradient, relative decrease). argmin's L-BFGS has no
+//! a strong-Wolfe line search along the direction up to the nearest bound
+//! ([`super::line_search`]), and the L-BFGS-B stopping rules (projected
+//! gradient, relative decrease). argmin's L-BFGS has no
 //! bounds; the GP hyperparameters need them (length scales must neither
 //! collapse nor run to infinity), hence this projection variant.
+
+use super::line_search::{strong_wolfe, Trial};
 
 /// Settings of the bounded L-BFGS.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,6 +38,30 @@ pub struct LbfgsResult {
     pub iterations: usize,
     /// Objective evaluations.
     pub evaluations: usize,
+}
+
+/// Evaluations one line search may spend.
+pub const LINE_SEARCH_BUDGET: usize = 10;
+
+/// `d` with the components that would leave the box at a bound set to 0.
+fn inward(mut d: Vec<f64>, x: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64> {
+    for k in 0..d.len() {
+        if (x[k] <= lo[k] && d[k] < 0.0) || (x[k] >= hi[k] && d[k] > 0.0) {
+            d[k] = 0.0;
+        }
+    }
+    d
+}
+
+/// Largest t keeping x + t d inside the box (∞ when d is 0).
+fn max_step(x: &[f64], d: &[f64], lo: &[f64], hi: &[f64]) -> f64 {
+    (0..d.len())
+        .map(|k| match d[k] {
+            v if v > 0.0 => (hi[k] - x[k]) / v,
+            v if v < 0.0 => (lo[k] - x[k]) / v,
+            _ => f64::INFINITY,
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 fn project(x: &mut [f64], lo: &[f64], hi: &[f64]) {
@@ -103,33 +130,32 @@ where
             break;
         }
         let fixed = active(&x, &g, lo, hi);
-        let mut d = direction(&g, &mem, &fixed);
+        let mut d = inward(direction(&g, &mem, &fixed), &x, lo, hi);
         if dot(&d, &g) >= 0.0 {
             mem.clear();
-            d = direction(&g, &mem, &fixed);
+            d = inward(direction(&g, &mem, &fixed), &x, lo, hi);
         }
-        let mut t = if mem.is_empty() {
+        let slope0 = dot(&d, &g);
+        let t_max = max_step(&x, &d, lo, hi);
+        if slope0 >= 0.0 || t_max <= 0.0 {
+            break;
+        }
+        let t0 = if mem.is_empty() {
             (1.0 / d.iter().map(|v| v.abs()).fold(0.0, f64::max)).min(1.0)
         } else {
             1.0
         };
-        let mut accepted = None;
-        for _ in 0..40 {
+        let phi = |t: f64| {
             let mut xn: Vec<f64> = x.iter().zip(&d).map(|(v, dk)| v + t * dk).collect();
             project(&mut xn, lo, hi);
-            evaluations += 1;
-            if let Some((fnew, gnew)) = f(&xn) {
-                let step: Vec<f64> = xn.iter().zip(&x).map(|(a, b)| a - b).collect();
-                if fnew.is_finite() && fnew <= fx + 1e-4 * dot(&g, &step) {
-                    accepted = Some((xn, fnew, gnew, step));
-                    break;
-                }
-            }
-            t *= 0.5;
-        }
-        let Some((xn, fnew, gnew, s)) = accepted else {
+            f(&xn).map(|(fv, gv)| (fv, dot(&gv, &d), (xn, gv)))
+        };
+        let (found, spent) = strong_wolfe(phi, (fx, slope0), t0, t_max, LINE_SEARCH_BUDGET);
+        evaluations += spent;
+        let Some(Trial { f: fnew, data: Some((xn, gnew)), .. }) = found else {
             break;
         };
+        let s: Vec<f64> = xn.iter().zip(&x).map(|(a, b)| a - b).collect();
         let yv: Vec<f64> = gnew.iter().zip(&g).map(|(a, b)| a - b).collect();
         if dot(&s, &yv) > 1e-10 * dot(&yv, &yv).max(1e-300) {
             mem.push((s, yv));

@@ -7,8 +7,8 @@
 
 use super::error::GpError;
 use super::kernel::{Kernel, KernelKind};
-use super::warp::InputWarp;
-use faer::linalg::solvers::{DenseSolveCore, Solve};
+use super::lml_workspace::LmlWorkspace;
+use faer::linalg::solvers::Solve;
 use faer::Mat;
 
 /// Jitters tried in turn (relative to the signal variance) when the
@@ -55,6 +55,10 @@ pub fn factor(
 
 /// Factor a given covariance, escalating the jitter (relative to `scale`).
 pub fn factor_matrix(mut k: Mat<f64>, scale: f64, y: &[f64]) -> Result<Factor, GpError> {
+    factor_lower(&mut k, scale, y)
+}
+
+fn factor_lower(k: &mut Mat<f64>, scale: f64, y: &[f64]) -> Result<Factor, GpError> {
     let n = k.nrows();
     let mut added = 0.0;
     for rel in JITTERS {
@@ -93,13 +97,6 @@ pub fn lml_and_grad(
     lml_and_grad_shared(kind, theta, x, d, &[y])
 }
 
-/// α = K⁻¹ y for a factor.
-fn solve(f: &Factor, y: &[f64]) -> Vec<f64> {
-    let mut rhs = Mat::<f64>::from_fn(y.len(), 1, |i, _| y[i]);
-    f.llt.solve_in_place(rhs.as_mut());
-    (0..y.len()).map(|i| rhs[(i, 0)]).collect()
-}
-
 /// Sum over outputs `ys` (each (n), sharing one kernel and noise) of the
 /// log marginal likelihoods, and its gradient: W = Σ_c α_c α_cᵀ − m K⁻¹.
 pub fn lml_and_grad_shared(
@@ -114,8 +111,7 @@ pub fn lml_and_grad_shared(
 
 /// As [`lml_and_grad_shared`] with inputs power-warped: `ratios` (one per
 /// input, or empty) marks the warped inputs, whose exponents λ follow the
-/// kernel parameters: θ = [kernel θ.., λ.., ln σ²]. With u = Σ_k t_k² / l_k²,
-/// t_k = w_ik − w_jk: ∂K_ij/∂λ_k = −s² h t_k (∂w_ik/∂λ − ∂w_jk/∂λ) / l_k².
+/// kernel parameters: θ = [kernel θ.., λ.., ln σ²] (see [`LmlWorkspace`]).
 pub fn lml_and_grad_warped(
     kind: KernelKind,
     ratios: &[Option<f64>],
@@ -124,81 +120,5 @@ pub fn lml_and_grad_warped(
     d: usize,
     ys: &[&[f64]],
 ) -> Result<(f64, Vec<f64>), GpError> {
-    let np = theta.len() - 1;
-    let nw = ratios.iter().filter(|r| r.is_some()).count();
-    let nk = np - nw;
-    let kernel = Kernel::from_log(kind, &theta[..nk]);
-    let warp = InputWarp::from_parts(ratios, &theta[nk..np]);
-    let (x, dw) = warp.apply_with_grad(x, d);
-    let x = x.as_slice();
-    // θ index of each input's exponent.
-    let mut slot = vec![None; d];
-    let mut m = nk;
-    for (k, r) in ratios.iter().take(d).enumerate() {
-        if r.is_some() {
-            slot[k] = Some(m);
-            m += 1;
-        }
-    }
-    let noise_var = theta[np].exp();
-    let y = ys[0];
-    let n = y.len();
-    let mo = ys.len() as f64;
-    let s2 = kernel.variance;
-    // Pass 1: covariance, keeping g, h and ∂g/∂ln α per pair.
-    let mut k = Mat::<f64>::zeros(n, n);
-    let mut pairs = Vec::with_capacity(n * (n.saturating_sub(1)) / 2);
-    for i in 0..n {
-        let xi = &x[i * d..(i + 1) * d];
-        k[(i, i)] = s2 + noise_var;
-        for j in 0..i {
-            let u = kernel.scaled_dist2(xi, &x[j * d..(j + 1) * d]);
-            let (g, h, da) = kernel.shape(u);
-            k[(i, j)] = s2 * g;
-            k[(j, i)] = s2 * g;
-            pairs.push((g, h, da));
-        }
-    }
-    let f = factor_matrix(k, s2, y)?;
-    let mut value = lml_from_factor(&f, y);
-    let mut alphas = vec![f.alpha.clone()];
-    for yc in &ys[1..] {
-        let a = solve(&f, yc);
-        let fit: f64 = yc.iter().zip(&a).map(|(p, q)| p * q).sum();
-        let fit0: f64 = y.iter().zip(&f.alpha).map(|(p, q)| p * q).sum();
-        value += lml_from_factor(&f, y) + 0.5 * fit0 - 0.5 * fit;
-        alphas.push(a);
-    }
-    let kinv = f.llt.inverse();
-    let aa = |i: usize, j: usize| alphas.iter().map(|a| a[i] * a[j]).sum::<f64>();
-    let mut grad = vec![0.0; theta.len()];
-    let inv_l2: Vec<f64> = kernel.lengths.iter().map(|l| 1.0 / (l * l)).collect();
-    let mut p = 0;
-    let mut trace_w = 0.0;
-    for i in 0..n {
-        let xi = &x[i * d..(i + 1) * d];
-        let wii = aa(i, i) - mo * kinv[(i, i)];
-        trace_w += wii;
-        for j in 0..i {
-            let xj = &x[j * d..(j + 1) * d];
-            let w = (aa(i, j) - mo * kinv[(i, j)]) * s2;
-            let (g, h, da) = pairs[p];
-            p += 1;
-            let wh = w * h;
-            for k in 0..d {
-                let t = xi[k] - xj[k];
-                grad[k] += wh * t * t * inv_l2[k];
-                if let Some(m) = slot[k] {
-                    grad[m] -= wh * t * (dw[i * d + k] - dw[j * d + k]) * inv_l2[k];
-                }
-            }
-            grad[d] += w * g;
-            if kind == KernelKind::RationalQuadratic {
-                grad[d + 1] += w * da;
-            }
-        }
-    }
-    grad[d] += 0.5 * s2 * trace_w;
-    grad[np] = 0.5 * noise_var * trace_w;
-    Ok((value, grad))
+    LmlWorkspace::default().lml_and_grad(kind, ratios, theta, x, d, ys)
 }

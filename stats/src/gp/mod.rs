@@ -24,6 +24,8 @@ pub mod fit;
 pub mod kernel;
 pub mod lbfgs;
 pub mod likelihood;
+pub mod line_search;
+pub mod lml_workspace;
 pub mod mean;
 pub mod model;
 pub mod pca;
