@@ -176,3 +176,24 @@ fn warp_learns_log_scale_of_an_input_spanning_decades() {
     assert!(lambda.abs() < 0.2, "λ = {lambda} (log scale is 0)");
     assert!(warped < 1e-3 && warped < 0.1 * plain, "RMSE warped {warped}, plain {plain}");
 }
+
+#[test]
+fn reused_workspace_gives_the_fresh_workspace_answer() {
+    // One workspace through kernels, sizes and warps in turn, against a
+    // fresh one each time: buffers left from an earlier call must not leak.
+    use stats::gp::lml_workspace::LmlWorkspace;
+    let d = 3;
+    let mut ws = LmlWorkspace::default();
+    let ratios = [Some(50.0), None, Some(4.0)];
+    for (n, kind) in [(25, KernelKind::RationalQuadratic), (40, KernelKind::Matern52)]
+        .into_iter()
+        .chain([(25, KernelKind::SquaredExponential), (25, KernelKind::RationalQuadratic)])
+    {
+        let (x, y) = data(n, d, n as u64);
+        let mut theta: Vec<f64> = (0..kind.n_params(d)).map(|k| -0.4 + 0.1 * k as f64).collect();
+        theta.extend([0.5, 1.2, -5.0]);
+        let reused = ws.lml_and_grad(kind, &ratios, &theta, &x, d, &[&y]).unwrap();
+        let fresh = LmlWorkspace::default().lml_and_grad(kind, &ratios, &theta, &x, d, &[&y]);
+        assert_eq!(reused, fresh.unwrap(), "{kind:?}, n = {n}");
+    }
+}
