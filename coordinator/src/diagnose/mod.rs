@@ -7,6 +7,7 @@
 pub mod calibrate;
 pub mod cause;
 pub mod envelope;
+pub mod evidence;
 pub mod filter;
 pub mod fit;
 pub mod loop_damping;
