@@ -75,6 +75,8 @@ pub struct Symptom {
     pub key: &'static str,
     /// What is measured, for the table.
     pub name: &'static str,
+    /// A short name for plot titles and axes.
+    pub short: &'static str,
     /// Unit of the numbers ("-" for ratios).
     pub unit: &'static str,
     /// What a departure of the measurement from the baseline points to.
@@ -384,6 +386,7 @@ fn frequency_trend(points: &[FrequencyPoint], runs: &[RunView]) -> Symptom {
     Symptom {
         key: "apparent_frequency_strong_over_weak",
         name: "apparent frequency, strongest run / weakest run",
+        short: "apparent frequency strong / weak",
         unit: "-",
         points_to: "below 1 while the model stays at 1: softening with amplitude (friction slip, \
                     yielding connections); above 1: stiffening by contact (pounding)",
@@ -419,9 +422,10 @@ fn per_run_symptoms<'a>(
     };
     let disp = move |v: &RunView, s: Source| v.channel(s, ctx.disp()?);
     let no_gap = || "the bundle gives no nominal gap".to_string();
-    let kernels: Vec<(&'static str, &'static str, &'static str, &'static str, Kernel)> = vec![
+    let kernels: Vec<(&str, &str, &str, &str, &str, Kernel)> = vec![
         (
             "spike_share",
+            "spike share",
             "high-frequency share of acceleration at displacement peaks",
             "-",
             "measured far above the model: impacts at the displacement peaks (pounding)",
@@ -433,6 +437,7 @@ fn per_run_symptoms<'a>(
         ),
         (
             "peak_over_gap",
+            "peak displacement / gap",
             "largest displacement / nominal gap",
             "-",
             "near 1 in the measurement while the model goes beyond: the gap closes and stops the grid",
@@ -443,6 +448,7 @@ fn per_run_symptoms<'a>(
         ),
         (
             "plateau_saturation",
+            "plateau saturation",
             "share of large half-cycles peaking within 10 % of the largest",
             "-",
             "higher than the model: cycle peaks pile up at a stop (contact at the gap)",
@@ -453,6 +459,7 @@ fn per_run_symptoms<'a>(
         ),
         (
             "residual_drift_mm",
+            "residual drift",
             "residual drift: mean of the last 10 % − mean of the first 10 %",
             "mm",
             "a permanent offset the model lacks: slip at the perimeter (friction)",
@@ -462,6 +469,7 @@ fn per_run_symptoms<'a>(
         ),
         (
             "loop_damping_ratio",
+            "loop damping ratio ζ_eq",
             "equivalent damping ratio of the hysteresis loops (cycles ≥ 50 % of the largest)",
             "-",
             "above the model, growing with amplitude: energy lost to friction or hysteretic connections",
@@ -476,6 +484,7 @@ fn per_run_symptoms<'a>(
         ),
         (
             "half_power_damping_ratio",
+            "half-power damping ratio",
             "damping ratio from the half-power bandwidth of the input→accelerometer transfer",
             "-",
             "wider than the model: amplitude-dependent damping or a smeared resonance (nonlinearity)",
@@ -488,7 +497,7 @@ fn per_run_symptoms<'a>(
     ];
     kernels
         .into_iter()
-        .map(|(key, name, unit, points_to, f)| {
+        .map(|(key, short, name, unit, points_to, f)| {
             let per_run: Vec<(String, [f64; 3])> = runs
                 .iter()
                 .map(|v| (v.data.id.clone(), SOURCES.map(|s| f(v, s).unwrap_or(f64::NAN))))
@@ -501,7 +510,7 @@ fn per_run_symptoms<'a>(
                 }),
                 None => no_focus(),
             };
-            Symptom { key, name, unit, points_to, readings, per_run }
+            Symptom { key, name, short, unit, points_to, readings, per_run }
         })
         .collect()
 }
@@ -581,6 +590,7 @@ fn residual_energy(ctx: &Context, focus: Option<&RunView>) -> Symptom {
     Symptom {
         key: "residual_energy_db",
         name: "residual energy / measured energy at the accelerometer",
+        short: "residual energy",
         unit: "dB",
         points_to: "what the model leaves unexplained; the maps show when and at which frequencies",
         readings,

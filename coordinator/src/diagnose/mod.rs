@@ -14,6 +14,7 @@ pub mod loop_damping;
 pub mod mdl;
 pub mod pipeline;
 pub mod report;
+pub mod report_symptoms;
 pub mod spectrogram;
 pub mod spectrum;
 pub mod symptoms;
