@@ -16,7 +16,7 @@
 
 use super::fit::{pre_event_offset, Simulated};
 use super::loop_damping::loop_damping;
-use super::pipeline::Diagnosis;
+use super::pipeline::{CandidateResult, Diagnosis};
 use super::spectrogram::{segment_for, spectrogram};
 use super::spectrum::{resonance, transfer_h1};
 use super::symptoms::{amplitude_trend, plateau, residual_drift, spike_share};
@@ -96,6 +96,18 @@ pub struct FrequencyPoint {
     pub amplitude_g: f64,
     /// Measured, baseline, extended resonance frequency (Hz); NaN when not computable.
     pub freq_hz: [f64; 3],
+    /// Whether the models simulated the run.
+    pub simulated: bool,
+}
+
+impl FrequencyPoint {
+    /// Whether the run counts in the trend: the measured frequency and, if
+    /// the run was simulated, both models' are there (so that every source
+    /// is judged on the same runs).
+    pub fn complete(&self) -> bool {
+        self.freq_hz[0].is_finite()
+            && (!self.simulated || self.freq_hz[1..].iter().all(|f| f.is_finite()))
+    }
 }
 
 /// Short-time spectrum of a model's residual at the accelerometer.
@@ -168,15 +180,23 @@ impl RunView<'_> {
 }
 
 /// The evidence of diagnosis `d` of bundle `b`.
-pub fn evidence(b: &Bundle, d: &Diagnosis) -> Evidence {
-    let base = &d.candidates[0];
-    let chosen = d.candidates.iter().find(|c| c.selected).unwrap_or(base);
+pub fn evidence<'a>(b: &'a Bundle, d: &'a Diagnosis) -> Evidence {
+    let base = d.candidates.first();
+    let chosen = d.candidates.iter().find(|c| c.selected).or(base);
+    let pick = |k: usize, validation: bool| {
+        let get = |c: Option<&'a CandidateResult>| c.and_then(|c| sims_of(c, validation).get(k));
+        (get(base), get(chosen))
+    };
     let mut sims: Vec<(Option<&Simulated>, Option<&Simulated>)> = vec![(None, None); b.runs.len()];
     for (k, &run) in d.calibration_runs.iter().enumerate() {
-        sims[run] = (base.calibration_sims.get(k), chosen.calibration_sims.get(k));
+        if let Some(s) = sims.get_mut(run) {
+            *s = pick(k, false);
+        }
     }
     for (k, &run) in d.validation_runs.iter().enumerate() {
-        sims[run] = (base.validation_sims.get(k), chosen.validation_sims.get(k));
+        if let Some(s) = sims.get_mut(run) {
+            *s = pick(k, true);
+        }
     }
     let direction = shaken_direction(b, &sims);
     let all: Vec<RunView> = b
@@ -195,22 +215,33 @@ pub fn evidence(b: &Bundle, d: &Diagnosis) -> Evidence {
     let fc_hz = spike_corner_hz(&frequency, focus);
     let mut symptoms = vec![frequency_trend(&frequency, &all)];
     symptoms.extend(per_run_symptoms(&ctx, &simulated, focus, fc_hz));
-    let maps =
-        focus.map(|f| residual_maps(&ctx, f, chosen.cause != base.cause)).unwrap_or_default();
+    if let Some(loops) = symptoms.iter().find(|s| s.key == "loop_damping_ratio") {
+        symptoms.push(damping_growth(loops, &simulated));
+    }
+    let extended = match (base, chosen) {
+        (Some(b), Some(c)) if b.cause != c.cause => Some(c.cause.as_str()),
+        _ => None,
+    };
+    let maps = focus.map(|f| residual_maps(&ctx, f, extended.is_some())).unwrap_or_default();
     symptoms.push(residual_energy(&ctx, focus));
     Evidence {
         direction,
         accel,
         disp,
-        extended_model: if chosen.cause == base.cause {
-            "none chosen: the baseline".into()
-        } else {
-            chosen.cause.as_str().into()
-        },
+        extended_model: extended.unwrap_or("none chosen: the baseline").into(),
         focus_run: focus.map(|f| f.data.id.clone()),
         symptoms,
         frequency,
         maps,
+    }
+}
+
+/// A candidate's simulations of the validation or the calibration runs.
+fn sims_of(c: &CandidateResult, validation: bool) -> &[Simulated] {
+    if validation {
+        &c.validation_sims
+    } else {
+        &c.calibration_sims
     }
 }
 
@@ -318,7 +349,8 @@ pub fn bridge_short_gaps(x: &[f64]) -> Vec<f64> {
 }
 
 /// Apparent (resonance) frequency of one source of one run (Hz) and its
-/// half-power damping ratio when the bandwidth spans at least three bins.
+/// half-power damping ratio when the bandwidth spans at least three bins;
+/// a peak at the edge of the band is no resonance and is refused.
 /// The peak is sought where the input carries power (mean short-time power
 /// within 20 dB of its largest), between 0.5 Hz and min(25 Hz, 0.4 × the
 /// sampling rate): elsewhere H1 divides noise by nothing.
@@ -338,6 +370,13 @@ fn apparent_freq(ctx: &Context, v: &RunView, src: Source) -> Result<(f64, Option
         .ok_or_else(|| format!("run {}: the input carries no power", v.data.id))?;
     let r = resonance(&t, lo, hi)
         .ok_or_else(|| format!("run {}: no resonance between {lo:.2} and {hi:.2} Hz", v.data.id))?;
+    if r.freq_hz < lo + 1.5 * df || r.freq_hz > hi - 1.5 * df {
+        return Err(format!(
+            "run {}: the transfer peaks at the edge of the input's band {lo:.2}–{hi:.2} Hz \
+             (no resonance inside it)",
+            v.data.id
+        ));
+    }
     let zeta = r.damping_ratio.filter(|z| 2.0 * z * r.freq_hz >= 3.0 * df);
     Ok((r.freq_hz, zeta))
 }
@@ -362,22 +401,25 @@ fn frequency_points(ctx: &Context, runs: &[RunView]) -> Vec<FrequencyPoint> {
             run: v.data.id.clone(),
             amplitude_g: v.pga_g,
             freq_hz: SOURCES.map(|s| apparent_freq(ctx, v, s).map_or(f64::NAN, |r| r.0)),
+            simulated: v.base.is_some(),
         })
         .collect()
 }
 
-/// Frequency at the strongest over the weakest run, per source.
+/// Frequency at the strongest over the weakest run, per source, over the
+/// runs where every source has one ([`FrequencyPoint::complete`]).
 fn frequency_trend(points: &[FrequencyPoint], runs: &[RunView]) -> Symptom {
     let readings = [0, 1, 2].map(|k| {
         let pairs: Vec<(f64, f64)> = points
             .iter()
-            .filter(|p| p.freq_hz[k].is_finite())
+            .filter(|p| p.complete() && p.freq_hz[k].is_finite())
             .map(|p| (p.amplitude_g, p.freq_hz[k]))
             .collect();
         match amplitude_trend(&pairs) {
             Some(t) => Reading::Value(t.strong_over_weak),
             None => Reading::NotComputable(format!(
-                "{} run(s) with a resonance at distinct amplitudes of {} shaken runs; need two",
+                "{} of {} shaken runs show a resonance inside their input band in the \
+                 measurement and both models; need two of distinct amplitude",
                 pairs.len(),
                 runs.iter().filter(|v| v.pga_g > 0.0).count()
             )),
@@ -396,20 +438,23 @@ fn frequency_trend(points: &[FrequencyPoint], runs: &[RunView]) -> Symptom {
 }
 
 /// High-pass corner for the spike share: 5 × the measured apparent
-/// frequency of the focus run, at least 10 Hz, at most 0.4 × the sampling rate.
+/// frequency of the focus run (else the highest of any run, else 4 Hz), at
+/// least 10 Hz, at most 0.4 × the focus run's sampling rate.
 fn spike_corner_hz(points: &[FrequencyPoint], focus: Option<&RunView>) -> f64 {
-    let f = focus
+    let at_focus = focus
         .and_then(|v| points.iter().find(|p| p.run == v.data.id))
-        .map_or(f64::NAN, |p| p.freq_hz[0]);
-    let fc = if f.is_finite() { (5.0 * f).max(10.0) } else { 20.0 };
+        .map(|p| p.freq_hz[0])
+        .filter(|f| f.is_finite());
+    let highest = points.iter().map(|p| p.freq_hz[0]).filter(|f| f.is_finite()).reduce(f64::max);
+    let fc = (5.0 * at_focus.or(highest).unwrap_or(4.0)).max(10.0);
     focus.map_or(fc, |v| fc.min(0.4 / v.data.dt_s))
 }
 
 type Kernel<'a> = Box<dyn Fn(&RunView, Source) -> Result<f64, String> + 'a>;
 
 /// The symptoms computed run by run.
-fn per_run_symptoms<'a>(
-    ctx: &'a Context,
+fn per_run_symptoms(
+    ctx: &Context,
     runs: &[&RunView],
     focus: Option<&RunView>,
     fc_hz: f64,
@@ -513,6 +558,37 @@ fn per_run_symptoms<'a>(
             Symptom { key, name, short, unit, points_to, readings, per_run }
         })
         .collect()
+}
+
+/// Loop damping of the strongest simulated run over that of the weakest.
+fn damping_growth(loops: &Symptom, runs: &[&RunView]) -> Symptom {
+    let readings = [0, 1, 2].map(|k| {
+        let pts: Vec<(f64, f64)> = runs
+            .iter()
+            .zip(&loops.per_run)
+            .filter(|(_, (_, v))| v[k].is_finite() && v[k] > 0.0)
+            .map(|(r, (_, v))| (r.pga_g, v[k]))
+            .collect();
+        let weak = pts.iter().min_by(|a, b| a.0.total_cmp(&b.0));
+        let strong = pts.iter().max_by(|a, b| a.0.total_cmp(&b.0));
+        match (weak, strong) {
+            (Some(w), Some(s)) if s.0 > w.0 => Reading::Value(s.1 / w.1),
+            _ => Reading::NotComputable(format!(
+                "loop damping on {} simulated run(s) of distinct amplitude; need two",
+                pts.len()
+            )),
+        }
+    });
+    Symptom {
+        key: "loop_damping_strong_over_weak",
+        name: "loop damping ratio, strongest simulated run / weakest",
+        short: "loop damping growth",
+        unit: "-",
+        points_to: "above 1 while the model stays at 1: damping grows with amplitude (friction, \
+                    hysteretic connections); below 1: an elastic stop stores energy (pounding)",
+        readings,
+        per_run: vec![],
+    }
 }
 
 fn no_focus() -> [Reading; 3] {

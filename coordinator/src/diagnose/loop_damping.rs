@@ -84,7 +84,7 @@ pub fn loop_damping(force_per_mass: &[f64], disp_m: &[f64], min_share: f64) -> O
     let used: Vec<&Cycle> = all.iter().filter(|c| c.amplitude_m >= min_share * top).collect();
     let ed: f64 = used.iter().map(|c| c.dissipated_j_kg).sum();
     let es: f64 = used.iter().map(|c| c.strain_j_kg).sum();
-    if used.is_empty() || !(es > 0.0) {
+    if used.is_empty() || es.is_nan() || es <= 0.0 {
         return None;
     }
     Some(LoopDamping {

@@ -1,7 +1,7 @@
 use super::*;
 use crate::diagnose::testkit::sdof;
 use proptest::prelude::*;
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 
 const DT: f64 = 1.0 / 200.0;
 
@@ -56,7 +56,7 @@ proptest! {
         f_hz in 0.5f64..8.0,
         k in 1.0f64..1e4,
         ratio in 0.0f64..0.3,
-        phase in 0.0f64..6.28,
+        phase in 0.0f64..TAU,
         scale in 0.1f64..10.0,
     ) {
         let w = 2.0 * PI * f_hz;

@@ -29,7 +29,7 @@ pub fn spectrogram(
     seg: usize,
     hop: usize,
 ) -> Result<Spectrogram, SpectrumError> {
-    if !(dt_s > 0.0) {
+    if dt_s.is_nan() || dt_s <= 0.0 {
         return Err(SpectrumError::Step(dt_s));
     }
     if seg < 8 || hop == 0 || x.len() < seg {

@@ -1,6 +1,6 @@
 use super::*;
 use proptest::prelude::*;
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 
 const DT: f64 = 0.01;
 
@@ -41,7 +41,7 @@ proptest! {
         log_seg in 4u32..9,
         k_share in 0.0f64..1.0,
         amp in 0.01f64..100.0,
-        phase in 0.0f64..6.28,
+        phase in 0.0f64..TAU,
     ) {
         let seg = 1usize << log_seg;
         let k = 2 + (k_share * (seg / 2 - 4) as f64) as usize;

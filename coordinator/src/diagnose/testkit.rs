@@ -53,22 +53,18 @@ pub fn sdof(
     (acc, disp)
 }
 
-/// Linear sine sweep from `f0_hz` to `f1_hz` over `n` samples at step `dt`.
-pub fn sweep(n: usize, dt: f64, f0_hz: f64, f1_hz: f64, amp: f64) -> Vec<f64> {
-    let t_end = n as f64 * dt;
-    (0..n)
-        .map(|i| {
-            let t = i as f64 * dt;
-            let phase =
-                2.0 * std::f64::consts::PI * (f0_hz * t + 0.5 * (f1_hz - f0_hz) * t * t / t_end);
-            amp * phase.sin()
-        })
-        .collect()
+/// Seeded white noise low-passed at 10 Hz (two passes of a Butterworth
+/// section), scaled to RMS `rms`.
+pub fn band_noise(n: usize, dt: f64, rms: f64, seed: u64) -> Vec<f64> {
+    let lp = super::filter::Biquad::low_pass(10.0, dt).expect("10 Hz below Nyquist");
+    let x = lp.filtfilt(&white_noise(n, 1.0, seed));
+    let r = (x.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+    x.iter().map(|v| v * rms / r).collect()
 }
 
 /// A campaign on a 3 Hz oscillator (ζ = 0.03) standing for a ceiling, and
-/// a diagnosis of it: three 20 s runs in x at 100 Hz, 1 s at rest then a
-/// sweep 1 → 6 Hz (weak and mid
+/// a diagnosis of it: three 20 s runs in x at 100 Hz, 1 s at rest then
+/// white noise below 10 Hz of RMS 0.1, 0.3 and 0.6 m/s² (weak and mid
 /// calibrate, strong validates); with `pounding` the measured oscillator
 /// strikes a stop at half the strong run's free peak (stiffness 200 k),
 /// else it is linear; measurements carry noise, offsets and two missing
@@ -85,12 +81,13 @@ pub fn pounding_diagnosis(
     use crate::bundle::*;
     let dt = 0.01;
     let n = 2000;
-    let runs = [("weak", 0.3), ("mid", 1.0), ("strong", 2.0)];
+    let runs = [("weak", 0.1), ("mid", 0.3), ("strong", 0.6)];
     // 1 s at rest first: the pre-event offset of the records is read there.
     let quiet = 100;
     let inputs: Vec<Vec<f64>> = runs
         .iter()
-        .map(|(_, a)| [vec![0.0; quiet], sweep(n - quiet, dt, 1.0, 6.0, *a)].concat())
+        .enumerate()
+        .map(|(k, (_, a))| [vec![0.0; quiet], band_noise(n - quiet, dt, *a, 7 + k as u64)].concat())
         .collect();
     let (_, free) = sdof(&inputs[2], dt, 3.0, 0.03, None);
     let gap_m = 0.5 * free.iter().fold(0.0f64, |m, d| m.max(d.abs()));
