@@ -26,8 +26,9 @@ pub fn symptoms_section(e: &Evidence) -> Section {
     let mut blocks = vec![Block::Paragraph(intro(e)), Block::Table(table(e))];
     blocks.push(Block::figure(
         "Apparent first frequency (peak of the H1 transfer from the table input to the \
-         accelerometer) against the run's peak input. A linear model keeps it flat; \
-         softening (slip) lowers it with amplitude, contact raises it.",
+         accelerometer, inside the band the input carries power in; a peak at the band's \
+         edge is no resonance and is left out) against the run's peak input. A linear model \
+         keeps it flat; softening (slip) lowers it with amplitude, contact raises it.",
         line_plot(&frequency_plot(e)),
     ));
     let mut grid = Vec::new();
@@ -120,7 +121,6 @@ fn table(e: &Evidence) -> Table {
 }
 
 fn frequency_plot(e: &Evidence) -> LinePlot {
-    let styles = [SeriesStyle::Points, SeriesStyle::Dashed, SeriesStyle::Solid];
     let names = [
         "measured".to_string(),
         "baseline".to_string(),
@@ -133,7 +133,7 @@ fn frequency_plot(e: &Evidence) -> LinePlot {
             name: names[k].clone(),
             x: pts.iter().map(|p| p.amplitude_g).collect(),
             y: pts.iter().map(|p| p.freq_hz[k]).collect(),
-            style: styles[k],
+            style: SeriesStyle::Points,
         })
         .collect();
     LinePlot {

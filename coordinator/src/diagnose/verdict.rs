@@ -140,3 +140,31 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
         symptoms: vec![],
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::evidence::evidence;
+    use crate::diagnose::testkit::pounding_diagnosis;
+
+    #[test]
+    fn the_symptoms_go_into_diagnosis_json_with_nulls_and_reasons() {
+        let (b, d) = pounding_diagnosis(true, false);
+        let ids: Vec<String> = b.runs.iter().map(|r| r.id.clone()).collect();
+        let plain = serde_json::to_value(verdict(&d, &ids)).unwrap();
+        assert!(plain.get("symptoms").is_none(), "no symptoms unless given");
+        let v = serde_json::to_value(verdict(&d, &ids).with_symptoms(&evidence(&b, &d))).unwrap();
+        let rows = v["symptoms"].as_array().unwrap();
+        let row = |name: &str| rows.iter().find(|r| r["name"] == name).unwrap().clone();
+        let f = row("apparent_frequency_strong_over_weak");
+        assert!(f["measured"].as_f64().unwrap() > 2.0 && f["run"] == "strong", "{f}");
+        assert!(f.get("not_computable").is_none(), "{f}");
+        // No displacement sensor: null and the reason, per column.
+        let s = row("spike_share");
+        assert!(s["measured"].is_null() && s["baseline"].is_null(), "{s}");
+        let why = s["not_computable"].as_array().unwrap();
+        assert_eq!(why.len(), 3);
+        assert!(why[0].as_str().unwrap().starts_with("measured: no displacement sensor"), "{s}");
+        assert!(row("residual_energy_db")["measured"].is_null());
+    }
+}
