@@ -21,6 +21,14 @@ fn cell(r: &Reading) -> String {
     }
 }
 
+/// A cell repeating its left neighbour's reason says so briefly.
+fn same(r: &Reading) -> String {
+    match r {
+        Reading::NotComputable(_) => "not computable: the same".into(),
+        other => cell(other),
+    }
+}
+
 /// The section for evidence `e`.
 pub fn symptoms_section(e: &Evidence) -> Section {
     let mut blocks = vec![Block::Paragraph(intro(e)), Block::Table(table(e))];
@@ -100,7 +108,10 @@ fn table(e: &Evidence) -> Table {
         .iter()
         .map(|s| {
             let mut row = vec![s.name.to_string(), s.unit.to_string()];
-            row.extend(s.readings.iter().map(cell));
+            let [m, b, x] = &s.readings;
+            row.push(cell(m));
+            row.push(if b == m { same(b) } else { cell(b) });
+            row.push(if x == b { same(x) } else { cell(x) });
             row.push(s.points_to.to_string());
             row
         })
@@ -227,5 +238,16 @@ mod tests {
             std::fs::write(std::path::Path::new(&dir).join("report.html"), &html).unwrap();
             println!("figures on the page: {}", html.matches("<figure").count());
         }
+    }
+
+    #[test]
+    fn a_reason_shared_by_all_columns_is_spelled_out_once() {
+        let (b, d) = pounding_diagnosis(true, false);
+        let section = symptoms_section(&evidence(&b, &d));
+        let Some(Block::Table(t)) = section.blocks.get(1) else { panic!("no table") };
+        let spikes = t.rows.iter().find(|r| r[0].starts_with("high-frequency share")).unwrap();
+        assert!(spikes[2].starts_with("not computable: no displacement sensor"), "{spikes:?}");
+        assert_eq!(spikes[3], "not computable: the same");
+        assert_eq!(spikes[4], "not computable: the same");
     }
 }
