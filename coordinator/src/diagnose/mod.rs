@@ -7,11 +7,15 @@
 pub mod calibrate;
 pub mod cause;
 pub mod envelope;
+pub mod evidence;
 pub mod filter;
 pub mod fit;
+pub mod loop_damping;
 pub mod mdl;
 pub mod pipeline;
 pub mod report;
+pub mod report_symptoms;
+pub mod spectrogram;
 pub mod spectrum;
 pub mod symptoms;
 pub mod verdict;

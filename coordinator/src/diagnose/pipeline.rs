@@ -58,6 +58,8 @@ pub struct CandidateResult {
     pub validation_error: f64,
     /// The validation runs simulated at the estimate.
     pub validation_sims: Vec<Simulated>,
+    /// The calibration runs simulated at the estimate (for the symptoms).
+    pub calibration_sims: Vec<Simulated>,
     /// Whether it was selected.
     pub selected: bool,
 }
@@ -146,7 +148,7 @@ pub fn diagnose(
     let mut held = Held { geometric: (0.0, 0.0), sd: vec![] };
     for (k, cal) in cals.iter().enumerate() {
         progress("validating", k, cals.len());
-        let r = assess(b, cal, &n_eff, &val_runs, &held);
+        let r = assess(b, cal, &n_eff, (&cal_runs, &val_runs), &held);
         if k == 0 {
             held = Held {
                 geometric: r.mdl.as_ref().map_or((0.0, 0.0), |m| (m.geometric, m.geometric_se)),
@@ -208,7 +210,7 @@ fn assess(
     b: &Bundle,
     cal: &Calibration,
     n_eff: &[f64],
-    val_runs: &[usize],
+    (cal_runs, val_runs): (&[usize], &[usize]),
     held: &Held,
 ) -> CandidateResult {
     let gp = cal.emulator(n_eff);
@@ -223,6 +225,7 @@ fn assess(
         calibration_error: f64::NAN,
         validation_error: f64::NAN,
         validation_sims: vec![],
+        calibration_sims: vec![],
         selected: false,
     };
     let Some(best) = cal.best(n_eff) else { return out };
@@ -263,5 +266,10 @@ fn assess(
         out.validation_error = mean_nrmse(&ev.channels(&sims));
         out.validation_sims = sims;
     }
+    out.calibration_sims = if cal_runs == val_runs {
+        out.validation_sims.clone()
+    } else {
+        Evaluation { runs: cal_runs, ..ev }.simulate(&cal.theta(best)).unwrap_or_default()
+    };
     out
 }

@@ -1,10 +1,13 @@
-//! `report.html` of a diagnosis: the verdict, the specimen, the model
-//! comparison (MDL table and chart), the chosen model's calibrated
-//! parameters, and measured vs baseline vs extended histories at the
-//! sensors where the two models differ most, with the symptom numbers.
+//! `report.html` of a diagnosis: the verdict, the specimen, the symptoms
+//! (table and plots, [`super::report_symptoms`]), the model comparison (MDL
+//! table and chart), the chosen model's calibrated parameters, and measured
+//! vs baseline vs extended histories at the sensors where the two models
+//! differ most.
 
+use super::evidence::evidence;
 use super::fit::{pre_event_offset, Simulated};
 use super::pipeline::Diagnosis;
+use super::report_symptoms::symptoms_section;
 use super::symptoms::{half_cycle_peaks, rms};
 use crate::bundle::{Bundle, SensorKind};
 use crate::report::{
@@ -34,6 +37,7 @@ pub fn render(b: &Bundle, d: &Diagnosis) -> String {
         sections: vec![
             verdict_section(d),
             specimen_section(b, &telling),
+            symptoms_section(&evidence(b, d)),
             comparison_section(d),
             parameters_section(d),
             histories_section(b, d, &telling),

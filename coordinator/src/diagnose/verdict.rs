@@ -1,7 +1,9 @@
 //! `diagnosis.json`, format `ceiling-diagnosis/1` (spec page
 //! `measured-bundle.md`): the cause, every candidate with its MDL and
-//! validation error, and the gain on the validation runs.
+//! validation error, and the gain on the validation runs; optionally the
+//! symptoms (an extra field, which the format allows).
 
+use super::evidence::{Evidence, Reading};
 use super::pipeline::Diagnosis;
 use serde::Serialize;
 
@@ -54,6 +56,57 @@ pub struct VerdictJson {
     pub validation_runs: Vec<String>,
     /// FE parameter points spent in all.
     pub fe_points: usize,
+    /// The symptoms, when given ([`VerdictJson::with_symptoms`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub symptoms: Vec<SymptomJson>,
+}
+
+/// One symptom as written: its numbers on the focus run (null when not
+/// computable, the reason in `not_computable`).
+#[derive(Debug, Clone, Serialize)]
+pub struct SymptomJson {
+    /// Machine name, e.g. `spike_share`.
+    pub name: String,
+    /// Unit of the numbers ("-" for ratios).
+    pub unit: String,
+    /// Run the numbers come from.
+    pub run: Option<String>,
+    /// On the measurement (null also when the measurement is the reference).
+    pub measured: Option<f64>,
+    /// On the calibrated baseline's simulation.
+    pub baseline: Option<f64>,
+    /// On the chosen extension's simulation.
+    pub extended: Option<f64>,
+    /// Why a number is missing, per column ("measured: ...").
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_computable: Vec<String>,
+}
+
+impl VerdictJson {
+    /// The verdict with the symptoms of `e`.
+    pub fn with_symptoms(mut self, e: &Evidence) -> Self {
+        self.symptoms = e
+            .symptoms
+            .iter()
+            .map(|s| SymptomJson {
+                name: s.key.into(),
+                unit: s.unit.into(),
+                run: e.focus_run.clone(),
+                measured: s.readings[0].value(),
+                baseline: s.readings[1].value(),
+                extended: s.readings[2].value(),
+                not_computable: ["measured", "baseline", "extended"]
+                    .iter()
+                    .zip(&s.readings)
+                    .filter_map(|(col, r)| match r {
+                        Reading::NotComputable(why) => Some(format!("{col}: {why}")),
+                        _ => None,
+                    })
+                    .collect(),
+            })
+            .collect();
+        self
+    }
 }
 
 /// The verdict of a diagnosis; `run_ids` names the bundle's runs.
@@ -84,5 +137,34 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
         calibration_runs: ids(&d.calibration_runs),
         validation_runs: ids(&d.validation_runs),
         fe_points: d.fe_points,
+        symptoms: vec![],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::evidence::evidence;
+    use crate::diagnose::testkit::pounding_diagnosis;
+
+    #[test]
+    fn the_symptoms_go_into_diagnosis_json_with_nulls_and_reasons() {
+        let (b, d) = pounding_diagnosis(true, false);
+        let ids: Vec<String> = b.runs.iter().map(|r| r.id.clone()).collect();
+        let plain = serde_json::to_value(verdict(&d, &ids)).unwrap();
+        assert!(plain.get("symptoms").is_none(), "no symptoms unless given");
+        let v = serde_json::to_value(verdict(&d, &ids).with_symptoms(&evidence(&b, &d))).unwrap();
+        let rows = v["symptoms"].as_array().unwrap();
+        let row = |name: &str| rows.iter().find(|r| r["name"] == name).unwrap().clone();
+        let f = row("apparent_frequency_strong_over_weak");
+        assert!(f["measured"].as_f64().unwrap() > 2.0 && f["run"] == "strong", "{f}");
+        assert!(f.get("not_computable").is_none(), "{f}");
+        // No displacement sensor: null and the reason, per column.
+        let s = row("spike_share");
+        assert!(s["measured"].is_null() && s["baseline"].is_null(), "{s}");
+        let why = s["not_computable"].as_array().unwrap();
+        assert_eq!(why.len(), 3);
+        assert!(why[0].as_str().unwrap().starts_with("measured: no displacement sensor"), "{s}");
+        assert!(row("residual_energy_db")["measured"].is_null());
     }
 }
