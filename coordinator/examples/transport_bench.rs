@@ -105,9 +105,11 @@ fn bare_round_trip(setup: &Setup, bin: &str, spec: &ModelSpec, n: usize) -> f64 
     let mut t = setup.transport(1);
     let children = setup.workers(bin, 1);
     t.start(&format!("{:032x}", rand_hash()), spec).expect("start");
+    let joined_by = Instant::now() + Duration::from_secs(60);
     let worker = loop {
+        assert!(Instant::now() < joined_by, "no worker joined within 60 s");
         if let Some(TransportEvent::Joined { worker, .. }) =
-            t.next_event(Duration::from_secs(30)).expect("event")
+            t.next_event(Duration::from_secs(5)).expect("event")
         {
             break worker;
         }
