@@ -5,8 +5,11 @@
 //! `dt_s`) so that measured and simulated runs are judged by the same code.
 
 pub mod calibrate;
+pub mod campaign;
 pub mod cause;
 pub mod envelope;
+pub mod executor;
+pub mod farm_executor;
 pub mod filter;
 pub mod fit;
 pub mod mdl;
@@ -18,3 +21,6 @@ pub mod verdict;
 
 #[cfg(test)]
 mod testkit;
+
+#[cfg(test)]
+mod farm_executor_tests;
