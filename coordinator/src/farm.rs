@@ -110,23 +110,82 @@ pub fn run_farm(
     sink: &mut dyn ResultSink,
     observer: &mut dyn FarmObserver,
 ) -> Result<FarmSummary, FarmError> {
+    if tasks.is_empty() {
+        return Ok(FarmSummary::default());
+    }
+    transport.start(study_hash, model)?;
+    let mut workers = BTreeMap::new();
+    let result = run_batch(transport, &mut workers, tasks, settings, sink, observer);
+    transport.shutdown();
+    result
+}
+
+/// One study served over several batches of tasks: the transport starts
+/// once and the workers stay joined between batches (for callers that
+/// choose each batch from the results of the last).
+pub struct FarmSession {
+    transport: Box<dyn Transport>,
+    workers: BTreeMap<WorkerId, WorkerState>,
+    settings: FarmSettings,
+}
+
+impl FarmSession {
+    /// Starts serving the study on `transport`.
+    pub fn start(
+        mut transport: Box<dyn Transport>,
+        study_hash: &str,
+        model: &ModelSpec,
+        settings: FarmSettings,
+    ) -> Result<Self, FarmError> {
+        transport.start(study_hash, model)?;
+        Ok(FarmSession { transport, workers: BTreeMap::new(), settings })
+    }
+
+    /// Runs one batch to completion, feeding final results to `sink`.
+    pub fn run(
+        &mut self,
+        tasks: Vec<Task>,
+        sink: &mut dyn ResultSink,
+        observer: &mut dyn FarmObserver,
+    ) -> Result<FarmSummary, FarmError> {
+        let t = self.transport.as_mut();
+        run_batch(t, &mut self.workers, tasks, &self.settings, sink, observer)
+    }
+}
+
+impl Drop for FarmSession {
+    fn drop(&mut self) {
+        self.transport.shutdown();
+    }
+}
+
+/// Runs `tasks` on a started transport with the workers known so far
+/// (updated as they join and leave).
+fn run_batch(
+    transport: &mut dyn Transport,
+    workers: &mut BTreeMap<WorkerId, WorkerState>,
+    tasks: Vec<Task>,
+    settings: &FarmSettings,
+    sink: &mut dyn ResultSink,
+    observer: &mut dyn FarmObserver,
+) -> Result<FarmSummary, FarmError> {
     let mut farm = Farm {
         settings,
         remaining: tasks.len(),
         tasks: tasks.iter().map(|t| (t.id, t.clone())).collect(),
         pending: tasks.into(),
         leases: HashMap::new(),
-        workers: BTreeMap::new(),
+        workers: std::mem::take(workers),
         tries: HashMap::new(),
         losses: HashMap::new(),
         summary: FarmSummary::default(),
     };
-    if farm.remaining == 0 {
-        return Ok(farm.summary);
+    let result = if farm.remaining == 0 { Ok(()) } else { farm.drive(transport, sink, observer) };
+    // Tasks still held (a failed batch) are forgotten with the batch.
+    for w in farm.workers.values_mut() {
+        w.held.clear();
     }
-    transport.start(study_hash, model)?;
-    let result = farm.drive(transport, sink, observer);
-    transport.shutdown();
+    *workers = farm.workers;
     result.map(|()| farm.summary)
 }
 

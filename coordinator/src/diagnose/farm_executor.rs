@@ -11,7 +11,7 @@ use super::cause::Demand;
 use super::executor::{ExecutorError, FeExecutor, Sims};
 use super::fit::Evaluation;
 use crate::evaluations::EvaluationStore;
-use crate::farm::{run_farm, FarmSettings, ResultSink, Silent};
+use crate::farm::{FarmSession, FarmSettings, ResultSink, Silent};
 use crate::study::TransportKind;
 use protocol::{Outcome, Task, TaskId, TaskResult};
 use std::path::PathBuf;
@@ -35,6 +35,12 @@ pub struct FarmPlan {
 pub struct FarmExecutor {
     plan: FarmPlan,
     store: Option<EvaluationStore>,
+    /// The study being served (its hash) and its session: the workers stay
+    /// joined while consecutive batches belong to one study.
+    session: Option<(String, FarmSession)>,
+    /// Task ids are unique over the executor's life, so that a late answer
+    /// can never pass for another batch's.
+    next_task: u64,
     simulated: usize,
     reused: usize,
 }
@@ -43,7 +49,7 @@ impl FarmExecutor {
     /// Opens (or creates) the plan's store.
     pub fn new(plan: FarmPlan) -> Result<Self, ExecutorError> {
         let store = plan.store.as_deref().map(EvaluationStore::open_or_create).transpose()?;
-        Ok(FarmExecutor { plan, store, simulated: 0, reused: 0 })
+        Ok(FarmExecutor { plan, store, session: None, next_task: 0, simulated: 0, reused: 0 })
     }
 
     /// Evaluations taken from the store instead of being simulated.
@@ -97,28 +103,48 @@ impl FarmExecutor {
         if missing.is_empty() {
             return Ok(vec![]);
         }
+        let base = self.next_task;
+        self.next_task += missing.len() as u64;
         let tasks: Vec<Task> = (missing.iter().enumerate())
-            .map(|(j, (_, p))| Task { id: TaskId(j as u64), params: p.clone() })
+            .map(|(j, (_, p))| Task { id: TaskId(base + j as u64), params: p.clone() })
             .collect();
-        let p = &self.plan;
-        let mut transport = crate::transports::coordinator_transport(
-            p.transport,
-            p.workers.max(1),
-            p.endpoint.as_deref(),
-        )?;
-        let mut sink = Collect { store: self.store.as_mut(), study, missing, results: vec![] };
-        let settings = p.settings.clone();
-        run_farm(
-            transport.as_mut(),
-            &study.hash,
-            &study.spec,
-            tasks,
-            &settings,
-            &mut sink,
-            &mut Silent,
-        )?;
+        let store = self.store.as_mut();
+        let session = session_for(&mut self.session, &self.plan, study)?;
+        let mut sink = Collect { store, study, missing, base, results: vec![] };
+        let outcome = session.run(tasks, &mut sink, &mut Silent);
         self.simulated += sink.results.len();
-        Ok(sink.results)
+        let results = sink.results;
+        if outcome.is_err() {
+            // A transport that failed is not used again.
+            self.session = None;
+        }
+        outcome?;
+        Ok(results)
+    }
+}
+
+/// The session serving `study`, started (and any other one ended) if needed.
+fn session_for<'s>(
+    current: &'s mut Option<(String, FarmSession)>,
+    plan: &FarmPlan,
+    study: &CampaignStudy,
+) -> Result<&'s mut FarmSession, ExecutorError> {
+    if current.as_ref().is_some_and(|(hash, _)| *hash != study.hash) {
+        *current = None;
+    }
+    if current.is_none() {
+        let transport = crate::transports::coordinator_transport(
+            plan.transport,
+            plan.workers.max(1),
+            plan.endpoint.as_deref(),
+        )?;
+        let session =
+            FarmSession::start(transport, &study.hash, &study.spec, plan.settings.clone())?;
+        *current = Some((study.hash.clone(), session));
+    }
+    match current {
+        Some((_, session)) => Ok(session),
+        None => Err(ExecutorError::Model("no farm session".into())),
     }
 }
 
@@ -127,6 +153,7 @@ struct Collect<'a> {
     store: Option<&'a mut EvaluationStore>,
     study: &'a CampaignStudy,
     missing: &'a [(usize, Vec<f64>)],
+    base: u64,
     results: Vec<(usize, TaskResult)>,
 }
 
@@ -136,7 +163,7 @@ impl ResultSink for Collect<'_> {
         for r in results {
             let (k, params) = self
                 .missing
-                .get(r.id.0 as usize)
+                .get(r.id.0.wrapping_sub(self.base) as usize)
                 .ok_or_else(|| format!("result for unknown task {}", r.id.0))?;
             keyed.push((*k, params.as_slice(), r));
         }
