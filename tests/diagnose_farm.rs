@@ -1,6 +1,6 @@
 //! `ceilfarm diagnose` on the farm, end to end, on the tiny test campaign
 //! (configs/synth/tiny-test.toml): two `ceilfarm worker` processes over
-//! iceoryx2 write the same diagnosis.json as the in-process farm, and a
+//! iceoryx2 or zenoh write the same diagnosis.json as the in-process farm, and a
 //! diagnosis killed with SIGKILL then run again runs only the evaluations
 //! its store lacks and writes the same diagnosis.json.
 
@@ -114,22 +114,34 @@ impl Drop for Workers {
     }
 }
 
-#[cfg(feature = "iceoryx2")]
-#[test]
-fn iceoryx2_workers_write_the_in_process_diagnosis() {
+/// Diagnoses over `transport` with two worker processes at `endpoint` and
+/// requires the in-process diagnosis.json byte for byte.
+fn same_diagnosis_as_in_process(transport: &str, endpoint: &str) {
     let dir = tempfile::tempdir().unwrap();
     let b = bundle(dir.path());
     let local = dir.path().join("in-process");
     let (_, t_local) = diagnose(&b, &local, &["--workers", "2"]);
-    let prefix = format!("cfdiag{}", std::process::id());
-    let _workers = Workers::start("iceoryx2", &prefix, 2);
-    let remote = dir.path().join("iceoryx2");
-    let args = ["--transport", "iceoryx2", "--endpoint", &prefix, "--workers", "2"];
+    let _workers = Workers::start(transport, endpoint, 2);
+    let remote = dir.path().join(transport);
+    let args = ["--transport", transport, "--endpoint", endpoint, "--workers", "2"];
     let (err, t_remote) = diagnose(&b, &remote, &args);
-    assert!(err.contains("iceoryx2 workers"), "{err}");
-    eprintln!("in-process {t_local:.1} s, iceoryx2 (2 worker processes) {t_remote:.1} s");
+    assert!(err.contains(&format!("{transport} workers")), "{err}");
+    eprintln!("in-process {t_local:.1} s, {transport} (2 worker processes) {t_remote:.1} s");
     assert_eq!(
         std::fs::read_to_string(remote.join("diagnosis.json")).unwrap(),
         std::fs::read_to_string(local.join("diagnosis.json")).unwrap()
     );
+}
+
+#[cfg(feature = "iceoryx2")]
+#[test]
+fn iceoryx2_workers_write_the_in_process_diagnosis() {
+    same_diagnosis_as_in_process("iceoryx2", &format!("cfdiag{}", std::process::id()));
+}
+
+#[cfg(feature = "zenoh")]
+#[test]
+fn zenoh_workers_write_the_in_process_diagnosis() {
+    let port = 41000 + (std::process::id() % 8000) as u16;
+    same_diagnosis_as_in_process("zenoh", &format!("tcp/127.0.0.1:{port}"));
 }
