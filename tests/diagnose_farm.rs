@@ -101,7 +101,9 @@ impl Workers {
 impl Drop for Workers {
     fn drop(&mut self) {
         for c in &mut self.0 {
-            let _ = Command::new("kill").args(["-TERM", &c.id().to_string()]).status();
+            if c.try_wait().ok().flatten().is_none() {
+                let _ = Command::new("kill").args(["-TERM", &c.id().to_string()]).status();
+            }
         }
         for c in &mut self.0 {
             let deadline = Instant::now() + Duration::from_secs(5);
@@ -144,4 +146,44 @@ fn iceoryx2_workers_write_the_in_process_diagnosis() {
 fn zenoh_workers_write_the_in_process_diagnosis() {
     let port = 41000 + (std::process::id() % 8000) as u16;
     same_diagnosis_as_in_process("zenoh", &format!("tcp/127.0.0.1:{port}"));
+}
+
+/// A worker process killed with SIGKILL mid-diagnosis: its tasks go to the
+/// other worker, the diagnosis finishes with the in-process diagnosis.json
+/// and every evaluation ran once.
+#[cfg(feature = "iceoryx2")]
+#[test]
+fn a_worker_killed_mid_diagnosis_loses_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = bundle(dir.path());
+    let local = dir.path().join("in-process");
+    let (err, _) = diagnose(&b, &local, &[]);
+    let (distinct, _) = spent(&err);
+    let prefix = format!("cfdiagkill{}", std::process::id());
+    let mut workers = Workers::start("iceoryx2", &prefix, 2);
+    let out = dir.path().join("iceoryx2");
+    let child = Command::new(bin())
+        .args(["diagnose", s(&b), "--out", s(&out), "--quiet", "--transport", "iceoryx2"])
+        .args(["--endpoint", &prefix, "--workers", "2"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let db = out.join("evaluations.db");
+    let t0 = Instant::now();
+    while stored(&db) < distinct / 3 && t0.elapsed() < Duration::from_secs(300) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    workers.0[0].kill().unwrap(); // SIGKILL
+    workers.0[0].wait().unwrap();
+    let killed_at = stored(&db);
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "diagnose failed after a worker was killed: {err}");
+    assert!(killed_at < distinct, "the kill landed after the diagnosis");
+    assert_eq!(spent(&err).0, distinct, "every evaluation ran once");
+    assert_eq!(
+        std::fs::read_to_string(out.join("diagnosis.json")).unwrap(),
+        std::fs::read_to_string(local.join("diagnosis.json")).unwrap()
+    );
 }
