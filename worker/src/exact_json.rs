@@ -71,7 +71,7 @@ pub fn encode(v: &[f64]) -> String {
 /// Samples from [`encode`]'s text; an error says what is wrong.
 pub fn decode(text: &str) -> Result<Vec<f64>, String> {
     let bytes = text.as_bytes();
-    if bytes.len() % 16 != 0 {
+    if !bytes.len().is_multiple_of(16) {
         return Err(format!(
             "{} hexadecimal characters: expected 16 per sample (little-endian f64 bytes)",
             bytes.len()

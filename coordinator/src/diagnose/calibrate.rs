@@ -177,6 +177,8 @@ fn judge(ev: &Evaluation<'_>, u: &[f64], sims: Sims) -> Full {
 /// (the baseline's estimate, unit cube) an extension varies only its own
 /// parameters, the baseline's held there: the extension then nests the
 /// calibrated baseline, and its budget grows with its own dimension only.
+/// `exec` runs the FE model.
+#[allow(clippy::too_many_arguments)] // each a different input of one calibration
 pub fn calibrate(
     bundle: &Bundle,
     cause: Cause,
@@ -390,7 +392,7 @@ impl Search<'_, '_> {
                     .zip(delta.iter())
                     .map(|(x, d): (&f64, &f64)| (x + d).clamp(0.0, 1.0))
                     .collect();
-                let p = evaluate_points(ev, &[trial.clone()], self.exec)?.remove(0);
+                let p = evaluate_points(ev, std::slice::from_ref(&trial), self.exec)?.remove(0);
                 spent += 1;
                 let ft = objective(&p);
                 cal.points.push(p);

@@ -124,9 +124,12 @@ fn runs_match_direct_simulation_bit_for_bit() {
     assert!(peaks.iter().all(|v| *v > 0.0), "{peaks:?}");
 }
 
+/// An edit of the options and the refusal it must bring.
+type Case = (Box<dyn Fn(&mut CampaignOptions)>, &'static str);
+
 #[test]
 fn refusals_name_the_key_the_value_and_what_was_expected() {
-    let cases: Vec<(Box<dyn Fn(&mut CampaignOptions)>, &str)> = vec![
+    let cases: Vec<Case> = vec![
         (Box::new(|o| o.runs.clear()), "runs = []: expected at least one run"),
         (Box::new(|o| o.runs[1].id = "r1".into()), "runs[1].id = \"r1\": expected a unique id"),
         (Box::new(|o| o.runs[0].dt_s = 0.0), "runs[0] (r1).dt_s = 0: expected a step > 0 s"),
