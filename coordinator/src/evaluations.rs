@@ -6,6 +6,10 @@
 //! transaction, so a `kill -9` loses at most the evaluations in flight; a
 //! computation that asks again for a stored point gets the stored outcome.
 //!
+//! Histories are kept whole (a resumed computation needs them bit for
+//! bit): about 90 kB per evaluation per thousand samples of five sensors
+//! over three runs (the demo's store: 233 evaluations, 22 MB).
+//!
 //! Format `ceilfarm-evaluations/1`. A sweep's store (`store.rs`,
 //! `ceilfarm-store/1`) holds one study with a design fixed up front; here
 //! the points are chosen as results arrive and many studies share a file.

@@ -28,7 +28,8 @@ pub struct Budget {
     pub per_round: usize,
     /// FE runs of the final local pattern search over every parameter.
     pub local: usize,
-    /// Threads running FE simulations.
+    /// FE simulations run at once (threads, or farm workers); design
+    /// points go to the executor in batches of twice this.
     pub threads: usize,
     /// Seed of the design.
     pub seed: u64,
