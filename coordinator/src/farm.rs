@@ -110,23 +110,82 @@ pub fn run_farm(
     sink: &mut dyn ResultSink,
     observer: &mut dyn FarmObserver,
 ) -> Result<FarmSummary, FarmError> {
+    if tasks.is_empty() {
+        return Ok(FarmSummary::default());
+    }
+    transport.start(study_hash, model)?;
+    let mut workers = BTreeMap::new();
+    let result = run_batch(transport, &mut workers, tasks, settings, sink, observer);
+    transport.shutdown();
+    result
+}
+
+/// One study served over several batches of tasks: the transport starts
+/// once and the workers stay joined between batches (for callers that
+/// choose each batch from the results of the last).
+pub struct FarmSession {
+    transport: Box<dyn Transport>,
+    workers: BTreeMap<WorkerId, WorkerState>,
+    settings: FarmSettings,
+}
+
+impl FarmSession {
+    /// Starts serving the study on `transport`.
+    pub fn start(
+        mut transport: Box<dyn Transport>,
+        study_hash: &str,
+        model: &ModelSpec,
+        settings: FarmSettings,
+    ) -> Result<Self, FarmError> {
+        transport.start(study_hash, model)?;
+        Ok(FarmSession { transport, workers: BTreeMap::new(), settings })
+    }
+
+    /// Runs one batch to completion, feeding final results to `sink`.
+    pub fn run(
+        &mut self,
+        tasks: Vec<Task>,
+        sink: &mut dyn ResultSink,
+        observer: &mut dyn FarmObserver,
+    ) -> Result<FarmSummary, FarmError> {
+        let t = self.transport.as_mut();
+        run_batch(t, &mut self.workers, tasks, &self.settings, sink, observer)
+    }
+}
+
+impl Drop for FarmSession {
+    fn drop(&mut self) {
+        self.transport.shutdown();
+    }
+}
+
+/// Runs `tasks` on a started transport with the workers known so far
+/// (updated as they join and leave).
+fn run_batch(
+    transport: &mut dyn Transport,
+    workers: &mut BTreeMap<WorkerId, WorkerState>,
+    tasks: Vec<Task>,
+    settings: &FarmSettings,
+    sink: &mut dyn ResultSink,
+    observer: &mut dyn FarmObserver,
+) -> Result<FarmSummary, FarmError> {
     let mut farm = Farm {
         settings,
         remaining: tasks.len(),
         tasks: tasks.iter().map(|t| (t.id, t.clone())).collect(),
         pending: tasks.into(),
         leases: HashMap::new(),
-        workers: BTreeMap::new(),
+        workers: std::mem::take(workers),
         tries: HashMap::new(),
         losses: HashMap::new(),
         summary: FarmSummary::default(),
     };
-    if farm.remaining == 0 {
-        return Ok(farm.summary);
+    let result = if farm.remaining == 0 { Ok(()) } else { farm.drive(transport, sink, observer) };
+    // Tasks still held (a failed batch) are forgotten with the batch.
+    for w in farm.workers.values_mut() {
+        w.held.clear();
     }
-    transport.start(study_hash, model)?;
-    let result = farm.drive(transport, sink, observer);
-    transport.shutdown();
+    *workers = farm.workers;
     result.map(|()| farm.summary)
 }
 
@@ -366,5 +425,32 @@ impl Farm<'_> {
                 done,
             );
         }
+    }
+}
+
+/// Whether a result is a failure the farm recorded itself (a timeout, a
+/// task lost with too many workers: these carry no host) rather than the
+/// model's own verdict; such a failure says nothing about the parameters
+/// and is worth trying again on the next run.
+pub fn farm_failure(r: &TaskResult) -> bool {
+    matches!(r.outcome, Outcome::Failed { .. }) && r.host.is_empty()
+}
+
+#[cfg(test)]
+mod farm_failure_tests {
+    use super::*;
+    use protocol::{Outputs, TaskId};
+
+    fn result(outcome: Outcome, host: &str) -> TaskResult {
+        TaskResult { id: TaskId(1), outcome, wall_s: 0.0, host: host.into() }
+    }
+
+    #[test]
+    fn only_failures_without_a_host_are_the_farms_own() {
+        let failed = || Outcome::Failed { reason: "timeout: no result after 3600 s".into() };
+        assert!(farm_failure(&result(failed(), "")));
+        assert!(!farm_failure(&result(failed(), "node-3")));
+        let ok = Outcome::Ok(Outputs { scalars: vec![], histories: vec![] });
+        assert!(!farm_failure(&result(ok, "")));
     }
 }

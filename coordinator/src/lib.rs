@@ -9,6 +9,7 @@
 pub mod bundle;
 pub mod design;
 pub mod diagnose;
+pub mod evaluations;
 pub mod export;
 pub mod export_parquet;
 pub mod farm;

@@ -498,7 +498,7 @@ pub fn bytes_to_f64s(b: &[u8]) -> Vec<f64> {
 }
 
 /// Checks the SQLite header against the file length before SQLite sees it.
-fn check_file(path: &Path) -> Result<(), StoreError> {
+pub(crate) fn check_file(path: &Path) -> Result<(), StoreError> {
     let corrupt = |reason: String| StoreError::Corrupt { path: path.to_path_buf(), reason };
     let mut header = [0u8; 100];
     let meta = std::fs::metadata(path)

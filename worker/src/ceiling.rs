@@ -114,7 +114,7 @@ impl Ceiling {
             .map(|(k, v)| SensorOptions::from_json(v, k))
             .collect::<Result<_, _>>()
             .map_err(invalid)?;
-        check_sensors(&spec, &base, &sensors)?;
+        check_sensors(&spec, &base, &sensors, "model.sensors").map_err(invalid)?;
         let sim = SimOptions {
             damping_ratio: opts.damping_ratio,
             n_modes: opts.n_modes,
@@ -132,7 +132,7 @@ impl Ceiling {
 }
 
 /// `Ok` for 0 <= ratio < 1, else the value and what was expected.
-fn check_damping(ratio: f64) -> Result<(), String> {
+pub(crate) fn check_damping(ratio: f64) -> Result<(), String> {
     if (0.0..1.0).contains(&ratio) {
         Ok(())
     } else {
@@ -140,37 +140,39 @@ fn check_damping(ratio: f64) -> Result<(), String> {
     }
 }
 
-/// Ids usable as history names and unique; every sensor on the ceiling.
-fn check_sensors(
+/// Ids usable as history names and unique; every sensor on the ceiling;
+/// errors name `key[k]`.
+pub(crate) fn check_sensors(
     spec: &CeilingSpec,
     base: &Parameters,
     sensors: &[SensorOptions],
-) -> Result<(), ModelError> {
-    let model = generate(spec, base).map_err(|e| invalid(e.to_string()))?;
+    key: &str,
+) -> Result<(), String> {
+    let model = generate(spec, base).map_err(|e| e.to_string())?;
     let s = &spec.structure;
     let nx = (s.length_x_m / s.module_m).round() as usize;
     let ny = (s.length_y_m / s.module_m).round() as usize;
     let mut seen = BTreeSet::new();
     for (k, opt) in sensors.iter().enumerate() {
-        let key = format!("model.sensors[{k}]");
+        let key = format!("{key}[{k}]");
         if !id_ok(&opt.id) {
-            return Err(invalid(format!(
+            return Err(format!(
                 "{key}.id = {:?}: expected letters, digits, '_', '-' or '.'",
                 opt.id
-            )));
+            ));
         }
         if !seen.insert(opt.id.as_str()) {
-            return Err(invalid(format!("{key}.id = {:?}: used twice", opt.id)));
+            return Err(format!("{key}.id = {:?}: used twice", opt.id));
         }
         let inside = |v: f64, l: f64| (0.0..=l * (1.0 + 1e-9)).contains(&v);
         if !(inside(opt.x_m, s.length_x_m) && inside(opt.y_m, s.length_y_m)) {
-            return Err(invalid(format!(
+            return Err(format!(
                 "{key} ({}): x_m = {}, y_m = {}: outside the ceiling (0..{} m, 0..{} m)",
                 opt.id, opt.x_m, opt.y_m, s.length_x_m, s.length_y_m
-            )));
+            ));
         }
         place(&opt.sensor(), &model, s.module_m, nx, ny)
-            .map_err(|e| invalid(format!("{key}.x_m/y_m: {e}")))?;
+            .map_err(|e| format!("{key}.x_m/y_m: {e}"))?;
     }
     Ok(())
 }

@@ -20,7 +20,9 @@
 //! ```
 
 pub mod ceiling;
+pub mod ceiling_campaign;
 pub mod ceiling_modal;
+pub mod exact_json;
 pub mod model;
 pub mod models;
 pub mod registry;

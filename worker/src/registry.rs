@@ -1,6 +1,7 @@
 //! The model registry: the study's `[model] kind` → a constructor.
 
 use crate::ceiling::Ceiling;
+use crate::ceiling_campaign::CeilingCampaign;
 use crate::ceiling_modal::CeilingModal;
 use crate::model::{Model, ModelError};
 use crate::models::analytic::{Borehole, Ishigami, Noop, SobolG};
@@ -27,6 +28,9 @@ const KINDS: &[(&str, Constructor)] = &[
     ("test-faults", |o, n| Ok(Box::new(Faults::new(options("test-faults", o)?, n)?))),
     ("ceiling-modal", |o, n| Ok(Box::new(CeilingModal::new(options("ceiling-modal", o)?, n)?))),
     ("ceiling", |o, n| Ok(Box::new(Ceiling::new(options("ceiling", o)?, n)?))),
+    ("ceiling-campaign", |o, n| {
+        Ok(Box::new(CeilingCampaign::new(options("ceiling-campaign", o)?, n)?))
+    }),
 ];
 
 #[derive(serde::Deserialize)]

@@ -1,29 +1,41 @@
 //! `ceilfarm diagnose BUNDLE --out DIR`: check the bundle, calibrate the
-//! baseline and its extensions, name the cause, write `diagnosis.json` and
-//! `report.html`.
+//! baseline and its extensions on the farm (any transport), name the cause,
+//! write `diagnosis.json` and `report.html`. Every FE evaluation is kept in
+//! an evaluation store (default `DIR/evaluations.db`) as it arrives; running
+//! the same diagnosis again re-uses what is stored and runs only the rest.
 
-use anyhow::{bail, Context, Result};
+use super::sweep::FarmArgs;
+use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
 use coordinator::diagnose::calibrate::Budget;
-use coordinator::diagnose::pipeline::{diagnose, DiagnoseOptions};
+use coordinator::diagnose::evidence::evidence;
+use coordinator::diagnose::executor::FeExecutor;
+use coordinator::diagnose::farm_executor::{FarmExecutor, FarmPlan};
+use coordinator::diagnose::pipeline::{diagnose_with, DiagnoseOptions};
 use coordinator::diagnose::verdict::verdict;
+use coordinator::farm::FarmSettings;
+use coordinator::study::TransportKind;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
+
+/// Worker count when `--workers` is not given.
+const DEFAULT_WORKERS: usize = 2;
 
 /// Arguments of `diagnose`.
 #[derive(ClapArgs)]
 pub struct Args {
     /// The bundle directory.
     pub bundle: PathBuf,
-    /// Output directory (diagnosis.json, report.html).
+    /// Output directory (diagnosis.json, report.html, evaluations.db).
     #[arg(long)]
     pub out: PathBuf,
-    /// Threads running FE simulations.
-    #[arg(long, default_value_t = 2)]
-    pub workers: usize,
-    /// Transport to the workers (this command runs them in-process).
-    #[arg(long, default_value = "in-process")]
-    pub transport: String,
+    /// The evaluation store (SQLite; default OUT/evaluations.db). An
+    /// existing store is re-used: stored evaluations are not run again.
+    #[arg(long)]
+    pub store: Option<PathBuf>,
+    /// Workers, transport, progress (default: 2 in-process workers).
+    #[command(flatten)]
+    pub farm: FarmArgs,
     /// Design points per calibrated parameter.
     #[arg(long, default_value_t = 5)]
     pub points_per_parameter: usize,
@@ -34,46 +46,49 @@ pub struct Args {
 
 /// Runs `diagnose`.
 pub fn run(a: Args) -> Result<()> {
-    if a.transport != "in-process" {
-        bail!(
-            "--transport {}: diagnose runs its FE simulations in-process only (use --workers N)",
-            a.transport
-        );
-    }
-    if a.workers == 0 {
-        bail!("--workers 0: expected at least 1");
-    }
+    let sweep = a.farm.options(a.out.join("evaluations.db"), true)?;
+    let workers = sweep.workers.unwrap_or(DEFAULT_WORKERS);
     let budget = Budget {
-        threads: a.workers,
+        threads: workers,
         per_dim: a.points_per_parameter,
         seed: a.seed,
         ..Budget::default()
     };
-    let path = diagnose_dir(&a.bundle, &a.out, &DiagnoseOptions { budget, ..Default::default() })?;
-    println!("report: {}", path.display());
+    let plan = FarmPlan {
+        transport: sweep.transport.unwrap_or(TransportKind::InProcess),
+        workers,
+        endpoint: sweep.endpoint,
+        settings: FarmSettings::default(),
+        store: Some(a.store.unwrap_or(sweep.store)),
+    };
+    let opts = DiagnoseOptions { budget, ..Default::default() };
+    let report = diagnose_dir(&a.bundle, &a.out, &opts, &plan, a.farm.quiet)?;
+    println!("report: {}", report.display());
     Ok(())
 }
 
-/// Diagnoses the bundle in `dir`, writes the verdict and report to `out`;
-/// returns the report's path.
-pub fn diagnose_dir(dir: &Path, out: &Path, opts: &DiagnoseOptions) -> Result<PathBuf> {
+/// Diagnoses the bundle in `dir` on the farm of `plan`, writes the verdict
+/// and report to `out`; returns the report's path.
+pub fn diagnose_dir(
+    dir: &Path,
+    out: &Path,
+    opts: &DiagnoseOptions,
+    plan: &FarmPlan,
+    quiet: bool,
+) -> Result<PathBuf> {
     let bundle = coordinator::bundle::read_bundle(dir)?;
     eprintln!("{}", bundle.summary());
-    let bar = ProgressBar::new(1);
-    bar.set_style(
-        ProgressStyle::with_template("{msg:28} [{bar:30}] {pos}/{len} FE points {elapsed}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    let d = diagnose(&bundle, opts, &mut |stage, done, planned| {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let mut exec = FarmExecutor::new(plan.clone())?;
+    let bar = progress_bar(quiet);
+    let d = diagnose_with(&bundle, opts, &mut exec, &mut |stage, done, planned| {
         bar.set_message(stage.to_string());
         bar.set_length(planned as u64);
         bar.set_position(done as u64);
-    })
-    .map_err(anyhow::Error::msg)?;
+    })?;
     bar.finish_and_clear();
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let ids: Vec<String> = bundle.manifest.runs.iter().map(|r| r.id.clone()).collect();
-    let v = verdict(&d, &ids);
+    let v = verdict(&d, &ids).with_symptoms(&evidence(&bundle, &d));
     let json = out.join("diagnosis.json");
     std::fs::write(&json, serde_json::to_string_pretty(&v)?)
         .with_context(|| format!("writing {}", json.display()))?;
@@ -84,5 +99,28 @@ pub fn diagnose_dir(dir: &Path, out: &Path, opts: &DiagnoseOptions) -> Result<Pa
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",
         v.cause, v.gain, v.baseline_validation_error, v.extended_validation_error, v.fe_points
     );
+    if let Some(store) = &plan.store {
+        eprintln!(
+            "store: {} ({} FE evaluations run now on {} {} workers, {} re-used)",
+            store.display(),
+            exec.simulated(),
+            plan.workers,
+            plan.transport.as_str(),
+            exec.reused()
+        );
+    }
     Ok(report)
+}
+
+/// The progress bar of the calibration stages (hidden when `quiet`).
+fn progress_bar(quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(1);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:28} [{bar:30}] {pos}/{len} FE points {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
 }

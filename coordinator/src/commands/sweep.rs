@@ -10,7 +10,8 @@ use std::path::PathBuf;
 /// How a sweep is farmed out: the options `run` and `pipeline` share.
 #[derive(Args)]
 pub struct FarmArgs {
-    /// Number of workers (default: the study's, else the machine's cores).
+    /// Number of workers (default: the study's, else the machine's cores;
+    /// 2 for `diagnose`).
     #[arg(long)]
     pub workers: Option<usize>,
     /// Transport (default: the study's [farm] transport, else in-process).

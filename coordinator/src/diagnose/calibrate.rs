@@ -7,6 +7,7 @@
 
 use super::cause::{Cause, Demand, Prior};
 use super::envelope::envelope_neg_log_lik;
+use super::executor::{ExecutorError, FeExecutor, Sims};
 use super::fit::{neg_log_lik, ChannelFit, Evaluation};
 use crate::bundle::Bundle;
 use crate::design::draw;
@@ -27,7 +28,8 @@ pub struct Budget {
     pub per_round: usize,
     /// FE runs of the final local pattern search over every parameter.
     pub local: usize,
-    /// Threads running FE simulations.
+    /// FE simulations run at once (threads, or farm workers); design
+    /// points go to the executor in batches of twice this.
     pub threads: usize,
     /// Seed of the design.
     pub seed: u64,
@@ -129,9 +131,13 @@ pub enum Scale {
 /// One evaluation with its time-history and windowed residuals.
 type Full = (Point, Option<(Residuals, Residuals)>);
 
-/// Runs the FE model at unit-cube points on `threads` threads.
-pub fn evaluate_points(ev: &Evaluation<'_>, us: &[Vec<f64>], threads: usize) -> Vec<Point> {
-    evaluate_full(ev, us, threads).into_iter().map(|(p, _)| p).collect()
+/// Runs the FE model at unit-cube points through `exec`.
+pub fn evaluate_points(
+    ev: &Evaluation<'_>,
+    us: &[Vec<f64>],
+    exec: &mut dyn FeExecutor,
+) -> Result<Vec<Point>, ExecutorError> {
+    Ok(evaluate_full(ev, us, exec)?.into_iter().map(|(p, _)| p).collect())
 }
 
 /// A point that failed to simulate.
@@ -141,49 +147,30 @@ fn failed(u: &[f64], why: String) -> Point {
 
 /// As [`evaluate_points`], keeping each point's time-history and windowed
 /// residual vectors.
-fn evaluate_full(ev: &Evaluation<'_>, us: &[Vec<f64>], threads: usize) -> Vec<Full> {
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    type Slot = std::sync::Mutex<Option<Full>>;
-    let slots: Vec<Slot> = us.iter().map(|_| std::sync::Mutex::new(None)).collect();
-    std::thread::scope(|s| {
-        for _ in 0..threads.max(1).min(us.len().max(1)) {
-            s.spawn(|| loop {
-                let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if k >= us.len() {
-                    break;
-                }
-                let theta: Vec<f64> = us[k].iter().zip(ev.priors).map(|(u, p)| p.at(*u)).collect();
-                let out = match ev.simulate(&theta) {
-                    Ok(sims) => {
-                        let (fits, mut residuals) = ev.fits(&sims);
-                        // Missing readings add nothing to a Jacobian.
-                        residuals
-                            .iter_mut()
-                            .flatten()
-                            .filter(|r| !r.is_finite())
-                            .for_each(|r| *r = 0.0);
-                        let env = ev.envelope_misfits(&sims);
-                        let coarse = envelope_neg_log_lik(&env);
-                        (Point { u: us[k].clone(), fit: Ok(fits), coarse }, Some((residuals, env)))
-                    }
-                    Err(e) => (failed(&us[k], e), None),
-                };
-                if let Ok(mut slot) = slots[k].lock() {
-                    *slot = Some(out);
-                }
-            });
+fn evaluate_full(
+    ev: &Evaluation<'_>,
+    us: &[Vec<f64>],
+    exec: &mut dyn FeExecutor,
+) -> Result<Vec<Full>, ExecutorError> {
+    let thetas: Vec<Vec<f64>> =
+        us.iter().map(|u| u.iter().zip(ev.priors).map(|(u, p)| p.at(*u)).collect()).collect();
+    let sims = exec.simulate(ev, &thetas)?;
+    Ok(us.iter().zip(sims).map(|(u, s)| judge(ev, u, s)).collect())
+}
+
+/// The point, fits and residuals of one simulated point.
+fn judge(ev: &Evaluation<'_>, u: &[f64], sims: Sims) -> Full {
+    match sims {
+        Ok(sims) => {
+            let (fits, mut residuals) = ev.fits(&sims);
+            // Missing readings add nothing to a Jacobian.
+            residuals.iter_mut().flatten().filter(|r| !r.is_finite()).for_each(|r| *r = 0.0);
+            let env = ev.envelope_misfits(&sims);
+            let coarse = envelope_neg_log_lik(&env);
+            (Point { u: u.to_vec(), fit: Ok(fits), coarse }, Some((residuals, env)))
         }
-    });
-    slots
-        .into_iter()
-        .zip(us)
-        .map(|(m, u)| {
-            m.into_inner()
-                .ok()
-                .flatten()
-                .unwrap_or_else(|| (failed(u, "evaluation thread panicked".into()), None))
-        })
-        .collect()
+        Err(e) => (failed(u, e), None),
+    }
 }
 
 /// Calibrates `cause` on runs `runs` of `bundle`; `n_eff` weights the
@@ -191,6 +178,8 @@ fn evaluate_full(ev: &Evaluation<'_>, us: &[Vec<f64>], threads: usize) -> Vec<Fu
 /// (the baseline's estimate, unit cube) an extension varies only its own
 /// parameters, the baseline's held there: the extension then nests the
 /// calibrated baseline, and its budget grows with its own dimension only.
+/// `exec` runs the FE model.
+#[allow(clippy::too_many_arguments)] // each a different input of one calibration
 pub fn calibrate(
     bundle: &Bundle,
     cause: Cause,
@@ -198,8 +187,9 @@ pub fn calibrate(
     n_eff: &[f64],
     budget: &Budget,
     base: Option<(&[f64], Demand)>,
+    exec: &mut dyn FeExecutor,
     progress: &mut dyn FnMut(usize, usize),
-) -> Calibration {
+) -> Result<Calibration, ExecutorError> {
     let (base, demand) = match base {
         Some((u, d)) => (Some(u), Some(d)),
         None => (None, None),
@@ -223,7 +213,7 @@ pub fn calibrate(
         gauss_newton: None,
     };
     for chunk in us.chunks(budget.threads.max(1) * 2) {
-        cal.points.extend(evaluate_points(&ev, chunk, budget.threads));
+        cal.points.extend(evaluate_points(&ev, chunk, exec)?);
         progress(cal.points.len(), planned);
     }
     for round in 0..budget.rounds {
@@ -233,188 +223,198 @@ pub fn calibrate(
             .map(|k| cal.free.iter().map(|i| cal.points[k].u[*i]).collect::<Vec<_>>());
         let next = proposals(&gp, d, best.as_deref(), budget.per_round, budget.seed + round as u64);
         let next: Vec<Vec<f64>> = next.iter().map(|x| embed(x)).collect();
-        cal.points.extend(evaluate_points(&ev, &next, budget.threads));
+        cal.points.extend(evaluate_points(&ev, &next, exec)?);
         progress(cal.points.len(), planned);
     }
     let mut report = |done| progress(done, planned);
-    let start =
-        if base.is_some() { coarse_start(&mut cal, &ev, n_eff, budget, &mut report) } else { None };
+    let mut search = Search { ev: &ev, n_eff, budget, exec };
+    let start = if base.is_some() { search.coarse_start(&mut cal, &mut report)? } else { None };
     let start = start.or_else(|| cal.best(n_eff).map(|k| cal.points[k].u.clone()));
     if let Some(u) = start {
-        let (_, gn) =
-            levenberg_marquardt(&mut cal, &ev, n_eff, budget, Scale::Fine, u, &mut report);
+        let (_, gn) = search.levenberg_marquardt(&mut cal, Scale::Fine, u, &mut report)?;
         cal.gauss_newton = gn;
     }
-    cal
+    Ok(cal)
+}
+
+/// What the final searches share: the variant, the weights, the budget and
+/// who runs the FE model.
+struct Search<'e, 'a> {
+    ev: &'e Evaluation<'a>,
+    n_eff: &'e [f64],
+    budget: &'e Budget,
+    exec: &'e mut dyn FeExecutor,
 }
 
 /// Distinct starts of the coarse search.
 const COARSE_STARTS: usize = 2;
 
-/// Coarse-to-fine start of an extension's final search: Levenberg–Marquardt
-/// on the windowed RMS misfits over every parameter from the
-/// [`COARSE_STARTS`] distinct points where they are smallest (the
-/// extension's physics may trade against the baseline's, and its
-/// time-history optimum is too sharp for a design to land near), then the
-/// best under −log L of where those searches ended and the best point
-/// evaluated before them.
-fn coarse_start(
-    cal: &mut Calibration,
-    ev: &Evaluation<'_>,
-    n_eff: &[f64],
-    budget: &Budget,
-    progress: &mut dyn FnMut(usize),
-) -> Option<Vec<f64>> {
-    let best = cal.best(n_eff)?;
-    let mut order: Vec<usize> =
-        (0..cal.points.len()).filter(|k| cal.points[*k].coarse.is_finite()).collect();
-    order.sort_by(|a, b| cal.points[*a].coarse.total_cmp(&cal.points[*b].coarse));
-    let mut starts: Vec<Vec<f64>> = Vec::new();
-    for k in order {
-        let u = &cal.points[k].u;
-        if starts.len() < COARSE_STARTS
-            && starts.iter().all(|s| crate::design::sq_dist(s, u).sqrt() > 0.15)
-        {
-            starts.push(u.clone());
+impl Search<'_, '_> {
+    /// Coarse-to-fine start of an extension's final search: Levenberg–Marquardt
+    /// on the windowed RMS misfits over every parameter from the
+    /// [`COARSE_STARTS`] distinct points where they are smallest (the
+    /// extension's physics may trade against the baseline's, and its
+    /// time-history optimum is too sharp for a design to land near), then the
+    /// best under −log L of where those searches ended and the best point
+    /// evaluated before them.
+    fn coarse_start(
+        &mut self,
+        cal: &mut Calibration,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Option<Vec<f64>>, ExecutorError> {
+        let n_eff = self.n_eff;
+        let Some(best) = cal.best(n_eff) else { return Ok(None) };
+        let mut order: Vec<usize> =
+            (0..cal.points.len()).filter(|k| cal.points[*k].coarse.is_finite()).collect();
+        order.sort_by(|a, b| cal.points[*a].coarse.total_cmp(&cal.points[*b].coarse));
+        let mut starts: Vec<Vec<f64>> = Vec::new();
+        for k in order {
+            let u = &cal.points[k].u;
+            if starts.len() < COARSE_STARTS
+                && starts.iter().all(|s| crate::design::sq_dist(s, u).sqrt() > 0.15)
+            {
+                starts.push(u.clone());
+            }
         }
-    }
-    let mut pick = cal.points[best].u.clone();
-    let mut f_pick = cal.objective(n_eff)[best];
-    for from in starts {
-        let (end, _) = levenberg_marquardt(cal, ev, n_eff, budget, Scale::Coarse, from, progress);
-        let f = cal.objective(n_eff);
-        let at_end = cal.points.iter().position(|p| p.u == end).map_or(f64::INFINITY, |k| f[k]);
-        if at_end < f_pick {
-            (pick, f_pick) = (end, at_end);
+        let mut pick = cal.points[best].u.clone();
+        let mut f_pick = cal.objective(n_eff)[best];
+        for from in starts {
+            let (end, _) = self.levenberg_marquardt(cal, Scale::Coarse, from, progress)?;
+            let f = cal.objective(n_eff);
+            let at_end = cal.points.iter().position(|p| p.u == end).map_or(f64::INFINITY, |k| f[k]);
+            if at_end < f_pick {
+                (pick, f_pick) = (end, at_end);
+            }
         }
+        Ok(Some(pick))
     }
-    Some(pick)
-}
 
-/// Levenberg–Marquardt on −log L = Σ n_c/2 · log SSR_c over every
-/// parameter (an extension re-tunes the baseline's too), from `start`, on
-/// the time histories (n_c = n_eff) or the windowed misfits (n_c = windows):
-/// forward-difference Jacobians of the residuals (k + 1 FE runs in
-/// parallel), the Gauss–Newton matrix Σ n_c/SSR_c · JᵀJ, steps clamped to
-/// the unit cube; stops when the budget is spent or a step gains < 0.01 nats.
-/// Returns the final point and the Gauss–Newton matrix there.
-fn levenberg_marquardt(
-    cal: &mut Calibration,
-    ev: &Evaluation<'_>,
-    n_eff: &[f64],
-    budget: &Budget,
-    scale: Scale,
-    start: Vec<f64>,
-    progress: &mut dyn FnMut(usize),
-) -> (Vec<f64>, Option<DMatrix<f64>>) {
-    let k = cal.priors.len();
-    let objective = |p: &Point| match scale {
-        Scale::Fine => p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff)),
-        Scale::Coarse => p.coarse,
-    };
-    let pick = |r: &(Residuals, Residuals)| match scale {
-        Scale::Fine => r.0.clone(),
-        Scale::Coarse => r.1.clone(),
-    };
-    let mut u = start;
-    let mut f;
-    let (mut lambda, mut spent, mut gn): (f64, usize, Option<DMatrix<f64>>) = (1e-3, 0, None);
-    // Extension parameters switch contact or slip on and off: a wider
-    // difference step averages over the jumps that a narrow one would see.
-    let ext = cal.free.len() < k;
-    let steps: Vec<f64> =
-        (0..k).map(|i| if ext && cal.free.contains(&i) { 2e-2 } else { 2e-3 }).collect();
-    while spent + k + 1 <= budget.local {
-        let mut us = vec![u.clone()];
-        for i in 0..k {
-            let h = steps[i];
-            let mut v = u.clone();
-            v[i] = if v[i] + h <= 1.0 { v[i] + h } else { v[i] - h };
-            us.push(v);
-        }
-        let evals = evaluate_full(ev, &us, budget.threads);
-        spent += evals.len();
-        f = objective(&evals[0].0);
-        let Some(r0) = evals[0].1.as_ref().map(pick) else { break };
-        let ssr: Vec<f64> =
-            r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
-        let mut jt_r = DVector::zeros(k);
-        let mut jt_j = DMatrix::zeros(k, k);
-        let mut cols: Vec<Option<Residuals>> = Vec::with_capacity(k);
-        for (i, (_, ri)) in evals[1..].iter().enumerate() {
-            let step = us[i + 1][i] - u[i];
-            cols.push(ri.as_ref().map(pick).map(|ri| {
-                ri.iter()
-                    .zip(&r0)
-                    .map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect())
-                    .collect()
-            }));
-        }
-        if cols.iter().any(Option::is_none) {
-            break;
-        }
-        let cols: Vec<Residuals> = cols.into_iter().flatten().collect();
-        for (c, r) in r0.iter().enumerate() {
-            let n_c = match scale {
-                Scale::Fine => n_eff.get(c).copied().unwrap_or(0.0),
-                Scale::Coarse => r.len() as f64,
-            };
-            let w = n_c / ssr[c];
-            for a in 0..k {
-                jt_r[a] += w * cols[a][c].iter().zip(r).map(|(x, y)| x * y).sum::<f64>();
-                for b in a..k {
-                    let v = w * cols[a][c].iter().zip(&cols[b][c]).map(|(x, y)| x * y).sum::<f64>();
-                    jt_j[(a, b)] += v;
-                    if a != b {
-                        jt_j[(b, a)] += v;
+    /// Levenberg–Marquardt on −log L = Σ n_c/2 · log SSR_c over every
+    /// parameter (an extension re-tunes the baseline's too), from `start`, on
+    /// the time histories (n_c = n_eff) or the windowed misfits (n_c = windows):
+    /// forward-difference Jacobians of the residuals (k + 1 FE runs in
+    /// parallel), the Gauss–Newton matrix Σ n_c/SSR_c · JᵀJ, steps clamped to
+    /// the unit cube; stops when the budget is spent or a step gains < 0.01 nats.
+    /// Returns the final point and the Gauss–Newton matrix there.
+    fn levenberg_marquardt(
+        &mut self,
+        cal: &mut Calibration,
+        scale: Scale,
+        start: Vec<f64>,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<(Vec<f64>, Option<DMatrix<f64>>), ExecutorError> {
+        let (ev, n_eff, budget) = (self.ev, self.n_eff, self.budget);
+        let k = cal.priors.len();
+        let objective = |p: &Point| match scale {
+            Scale::Fine => p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff)),
+            Scale::Coarse => p.coarse,
+        };
+        let pick = |r: &(Residuals, Residuals)| match scale {
+            Scale::Fine => r.0.clone(),
+            Scale::Coarse => r.1.clone(),
+        };
+        let mut u = start;
+        let mut f;
+        let (mut lambda, mut spent, mut gn): (f64, usize, Option<DMatrix<f64>>) = (1e-3, 0, None);
+        // Extension parameters switch contact or slip on and off: a wider
+        // difference step averages over the jumps that a narrow one would see.
+        let ext = cal.free.len() < k;
+        let steps: Vec<f64> =
+            (0..k).map(|i| if ext && cal.free.contains(&i) { 2e-2 } else { 2e-3 }).collect();
+        while spent + k + 1 <= budget.local {
+            let mut us = vec![u.clone()];
+            for i in 0..k {
+                let h = steps[i];
+                let mut v = u.clone();
+                v[i] = if v[i] + h <= 1.0 { v[i] + h } else { v[i] - h };
+                us.push(v);
+            }
+            let evals = evaluate_full(ev, &us, self.exec)?;
+            spent += evals.len();
+            f = objective(&evals[0].0);
+            let Some(r0) = evals[0].1.as_ref().map(pick) else { break };
+            let ssr: Vec<f64> =
+                r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
+            let mut jt_r = DVector::zeros(k);
+            let mut jt_j = DMatrix::zeros(k, k);
+            let mut cols: Vec<Option<Residuals>> = Vec::with_capacity(k);
+            for (i, (_, ri)) in evals[1..].iter().enumerate() {
+                let step = us[i + 1][i] - u[i];
+                cols.push(ri.as_ref().map(pick).map(|ri| {
+                    ri.iter()
+                        .zip(&r0)
+                        .map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect())
+                        .collect()
+                }));
+            }
+            if cols.iter().any(Option::is_none) {
+                break;
+            }
+            let cols: Vec<Residuals> = cols.into_iter().flatten().collect();
+            for (c, r) in r0.iter().enumerate() {
+                let n_c = match scale {
+                    Scale::Fine => n_eff.get(c).copied().unwrap_or(0.0),
+                    Scale::Coarse => r.len() as f64,
+                };
+                let w = n_c / ssr[c];
+                for a in 0..k {
+                    jt_r[a] += w * cols[a][c].iter().zip(r).map(|(x, y)| x * y).sum::<f64>();
+                    for b in a..k {
+                        let v =
+                            w * cols[a][c].iter().zip(&cols[b][c]).map(|(x, y)| x * y).sum::<f64>();
+                        jt_j[(a, b)] += v;
+                        if a != b {
+                            jt_j[(b, a)] += v;
+                        }
                     }
                 }
             }
-        }
-        for (p, _) in &evals {
-            cal.points.push(p.clone());
-        }
-        gn = Some(jt_j.clone());
-        progress(cal.points.len());
-        let mut moved = false;
-        for _ in 0..4 {
-            if spent + 1 > budget.local + k {
-                break;
+            for (p, _) in &evals {
+                cal.points.push(p.clone());
             }
-            let mut a = jt_j.clone();
-            for i in 0..k {
-                a[(i, i)] *= 1.0 + lambda;
-                a[(i, i)] += 1e-12;
-            }
-            let Some(delta): Option<DVector<f64>> = a.cholesky().map(|c| c.solve(&(-&jt_r))) else {
-                break;
-            };
-            let trial: Vec<f64> = u
-                .iter()
-                .zip(delta.iter())
-                .map(|(x, d): (&f64, &f64)| (x + d).clamp(0.0, 1.0))
-                .collect();
-            let p = evaluate_points(ev, &[trial.clone()], 1).remove(0);
-            spent += 1;
-            let ft = objective(&p);
-            cal.points.push(p);
+            gn = Some(jt_j.clone());
             progress(cal.points.len());
-            if ft < f {
-                let gain = f - ft;
-                (u, moved) = (trial, true);
-                lambda = (lambda * 0.3).max(1e-6);
-                if gain < 0.01 {
-                    return (u, gn);
+            let mut moved = false;
+            for _ in 0..4 {
+                if spent + 1 > budget.local + k {
+                    break;
                 }
+                let mut a = jt_j.clone();
+                for i in 0..k {
+                    a[(i, i)] *= 1.0 + lambda;
+                    a[(i, i)] += 1e-12;
+                }
+                let Some(delta): Option<DVector<f64>> = a.cholesky().map(|c| c.solve(&(-&jt_r)))
+                else {
+                    break;
+                };
+                let trial: Vec<f64> = u
+                    .iter()
+                    .zip(delta.iter())
+                    .map(|(x, d): (&f64, &f64)| (x + d).clamp(0.0, 1.0))
+                    .collect();
+                let p = evaluate_points(ev, std::slice::from_ref(&trial), self.exec)?.remove(0);
+                spent += 1;
+                let ft = objective(&p);
+                cal.points.push(p);
+                progress(cal.points.len());
+                if ft < f {
+                    let gain = f - ft;
+                    (u, moved) = (trial, true);
+                    lambda = (lambda * 0.3).max(1e-6);
+                    if gain < 0.01 {
+                        return Ok((u, gn));
+                    }
+                    break;
+                }
+                lambda *= 10.0;
+            }
+            if !moved {
                 break;
             }
-            lambda *= 10.0;
         }
-        if !moved {
-            break;
-        }
+        Ok((u, gn))
     }
-    (u, gn)
 }
 
 /// Points where the emulator's mean is lowest: the minimiser from a dense

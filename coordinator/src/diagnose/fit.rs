@@ -41,6 +41,8 @@ impl ChannelFit {
 pub const PERIMETER_GROUP: &str = "perimeter_friction";
 /// Spring group of the grid connections' axial springs.
 pub const CONNECTION_GROUP: &str = "connection_axial";
+/// The calibrated parameter that sets the Rayleigh damping ratio.
+pub const DAMPING_RATIO: &str = "damping_ratio";
 
 /// One simulated run at a parameter point: (sensor id, samples) in bundle units.
 pub type Simulated = Vec<(String, Vec<f64>)>;
@@ -60,16 +62,15 @@ pub struct Evaluation<'a> {
 }
 
 impl Evaluation<'_> {
-    /// The FE parameters and simulation options at `theta` (prior order).
-    pub fn setup(
-        &self,
-        theta: &[f64],
-    ) -> Result<(fe::generator::CeilingSpec, Parameters, SimOptions), String> {
-        let spec = fe_spec(&self.bundle.manifest.structure, self.cause.model_options())
-            .map_err(|e| e.to_string())?;
-        let mut params = Parameters::prior_midpoints_for(&spec);
-        let mut opts =
-            SimOptions { rayleigh_groups: vec![PERIMETER_GROUP.into()], ..SimOptions::default() };
+    /// The FE specimen of the variant.
+    pub fn fe_spec(&self) -> Result<fe::generator::CeilingSpec, String> {
+        fe_spec(&self.bundle.manifest.structure, self.cause.model_options())
+            .map_err(|e| e.to_string())
+    }
+
+    /// The FE parameter values `theta` (prior order) sets, in the order
+    /// they are set (`damping_ratio` included, under that name).
+    pub fn assignments(&self, theta: &[f64]) -> Vec<(&'static str, f64)> {
         let named: Vec<(&str, f64)> =
             self.priors.iter().map(|p| p.name).zip(theta.iter().copied()).collect();
         let demand = self.demand.unwrap_or(Demand {
@@ -78,12 +79,30 @@ impl Evaluation<'_> {
             connection_n: 1.0,
             nominal_gap_mm: 1.0,
         });
+        let mut out = Vec::new();
         for (p, v) in self.priors.iter().zip(theta) {
-            if p.name == "damping_ratio" {
-                opts.damping_ratio = *v;
-                continue;
+            if p.name == DAMPING_RATIO {
+                out.push((DAMPING_RATIO, *v));
+            } else {
+                out.extend(model_parameters(p, *v, &named, &demand));
             }
-            for (name, value) in model_parameters(p, *v, &named, &demand) {
+        }
+        out
+    }
+
+    /// The FE parameters and simulation options at `theta` (prior order).
+    pub fn setup(
+        &self,
+        theta: &[f64],
+    ) -> Result<(fe::generator::CeilingSpec, Parameters, SimOptions), String> {
+        let spec = self.fe_spec()?;
+        let mut params = Parameters::prior_midpoints_for(&spec);
+        let mut opts =
+            SimOptions { rayleigh_groups: vec![PERIMETER_GROUP.into()], ..SimOptions::default() };
+        for (name, value) in self.assignments(theta) {
+            if name == DAMPING_RATIO {
+                opts.damping_ratio = value;
+            } else {
                 params.set(name, value).map_err(|e| e.to_string())?;
             }
         }

@@ -5,9 +5,12 @@
 //! `dt_s`) so that measured and simulated runs are judged by the same code.
 
 pub mod calibrate;
+pub mod campaign;
 pub mod cause;
 pub mod envelope;
 pub mod evidence;
+pub mod executor;
+pub mod farm_executor;
 pub mod filter;
 pub mod fit;
 pub mod loop_damping;
@@ -22,3 +25,6 @@ pub mod verdict;
 
 #[cfg(test)]
 mod testkit;
+
+#[cfg(test)]
+mod farm_executor_tests;

@@ -5,6 +5,7 @@
 
 use super::calibrate::{calibrate, Budget, Calibration};
 use super::cause::Cause;
+use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
 use super::fit::{effective_sizes, mean_nrmse, Evaluation, Simulated};
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use crate::bundle::{Bundle, RunRole};
@@ -103,19 +104,46 @@ pub fn split_runs(b: &Bundle) -> (Vec<usize>, Vec<usize>) {
     }
 }
 
-/// Diagnoses a bundle; `progress` hears (stage, done, planned).
+/// Why a diagnosis stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum DiagnoseError {
+    /// The FE executor could not deliver.
+    #[error(transparent)]
+    Executor(#[from] ExecutorError),
+    /// The model cannot be judged on this bundle.
+    #[error("{0}")]
+    Model(String),
+}
+
+/// Diagnoses a bundle on plain threads (`opts.budget.threads`); `progress`
+/// hears (stage, done, planned).
 pub fn diagnose(
     b: &Bundle,
     opts: &DiagnoseOptions,
     progress: &mut dyn FnMut(&str, usize, usize),
 ) -> Result<Diagnosis, String> {
+    let mut exec = ThreadExecutor::new(opts.budget.threads);
+    diagnose_with(b, opts, &mut exec, progress).map_err(|e| e.to_string())
+}
+
+/// Diagnoses a bundle, every FE simulation through `exec`; `progress`
+/// hears (stage, done, planned).
+pub fn diagnose_with(
+    b: &Bundle,
+    opts: &DiagnoseOptions,
+    exec: &mut dyn FeExecutor,
+    progress: &mut dyn FnMut(&str, usize, usize),
+) -> Result<Diagnosis, DiagnoseError> {
     let (cal_runs, val_runs) = split_runs(b);
-    let n_eff0 = midpoint_weights(b, &cal_runs)?;
+    let n_eff0 = midpoint_weights(b, &cal_runs, exec)?;
     let stage = "calibrating none (baseline)";
-    let base = calibrate(b, Cause::None, &cal_runs, &n_eff0, &opts.budget, None, &mut |d, n| {
-        progress(stage, d, n)
-    });
-    let base_best = base.best(&n_eff0).ok_or("the baseline failed at every design point")?;
+    let base =
+        calibrate(b, Cause::None, &cal_runs, &n_eff0, &opts.budget, None, exec, &mut |d, n| {
+            progress(stage, d, n)
+        })?;
+    let base_best = base
+        .best(&n_eff0)
+        .ok_or_else(|| DiagnoseError::Model("the baseline failed at every design point".into()))?;
     let base_u = base.points[base_best].u.clone();
     let priors = Cause::None.priors();
     let ev = Evaluation {
@@ -125,7 +153,7 @@ pub fn diagnose(
         runs: &cal_runs,
         demand: None,
     };
-    let demand = ev.demand_at(&base.theta(base_best))?;
+    let demand = exec.demand(&ev, &base.theta(base_best))?.map_err(DiagnoseError::Model)?;
     let mut cals: Vec<Calibration> = vec![base];
     for c in opts.candidates.iter().copied().filter(|c| *c != Cause::None) {
         let stage = format!("calibrating {}", c.as_str());
@@ -136,19 +164,20 @@ pub fn diagnose(
             &n_eff0,
             &opts.budget,
             Some((&base_u, demand)),
+            exec,
             &mut |d, n| progress(&stage, d, n),
-        );
+        )?;
         cals.push(cal);
     }
     let n_eff = match &cals[0].points[base_best].fit {
         Ok(ch) => effective_sizes(ch),
-        Err(e) => return Err(e.clone()),
+        Err(e) => return Err(DiagnoseError::Model(e.clone())),
     };
     let mut results = Vec::new();
     let mut held = Held { geometric: (0.0, 0.0), sd: vec![] };
     for (k, cal) in cals.iter().enumerate() {
         progress("validating", k, cals.len());
-        let r = assess(b, cal, &n_eff, (&cal_runs, &val_runs), &held);
+        let r = assess(b, cal, &n_eff, (&cal_runs, &val_runs), &held, exec)?;
         if k == 0 {
             held = Held {
                 geometric: r.mdl.as_ref().map_or((0.0, 0.0), |m| (m.geometric, m.geometric_se)),
@@ -191,12 +220,21 @@ fn select(results: &[CandidateResult]) -> usize {
 }
 
 /// Channel weights from the baseline at its prior mid-point.
-fn midpoint_weights(b: &Bundle, runs: &[usize]) -> Result<Vec<f64>, String> {
+fn midpoint_weights(
+    b: &Bundle,
+    runs: &[usize],
+    exec: &mut dyn FeExecutor,
+) -> Result<Vec<f64>, DiagnoseError> {
     let priors = Cause::None.priors();
     let ev = Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs, demand: None };
     let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
-    let sims = ev.simulate(&theta)?;
+    let sims = one(exec.simulate(&ev, &[theta])?).map_err(DiagnoseError::Model)?;
     Ok(effective_sizes(&ev.channels(&sims)))
+}
+
+/// The only entry of a one-point batch.
+fn one(mut batch: Vec<Sims>) -> Sims {
+    batch.pop().unwrap_or_else(|| Err("the executor returned no result".into()))
 }
 
 /// What an extension takes from the baseline for the parameters it held.
@@ -212,7 +250,8 @@ fn assess(
     n_eff: &[f64],
     (cal_runs, val_runs): (&[usize], &[usize]),
     held: &Held,
-) -> CandidateResult {
+    exec: &mut dyn FeExecutor,
+) -> Result<CandidateResult, ExecutorError> {
     let gp = cal.emulator(n_eff);
     let m = mdl(cal, gp.as_ref(), n_eff, held.geometric);
     let failed = cal.points.iter().filter(|p| p.fit.is_err()).count();
@@ -228,7 +267,7 @@ fn assess(
         calibration_sims: vec![],
         selected: false,
     };
-    let Some(best) = cal.best(n_eff) else { return out };
+    let Some(best) = cal.best(n_eff) else { return Ok(out) };
     let u = &cal.points[best].u;
     let free_u: Vec<f64> = cal.free.iter().map(|i| u[*i]).collect();
     let free_sd = gp
@@ -262,14 +301,15 @@ fn assess(
         runs: val_runs,
         demand: cal.demand,
     };
-    if let Ok(sims) = ev.simulate(&cal.theta(best)) {
+    if let Ok(sims) = one(exec.simulate(&ev, &[cal.theta(best)])?) {
         out.validation_error = mean_nrmse(&ev.channels(&sims));
         out.validation_sims = sims;
     }
     out.calibration_sims = if cal_runs == val_runs {
         out.validation_sims.clone()
     } else {
-        Evaluation { runs: cal_runs, ..ev }.simulate(&cal.theta(best)).unwrap_or_default()
+        let ev = Evaluation { runs: cal_runs, ..ev };
+        one(exec.simulate(&ev, &[cal.theta(best)])?).unwrap_or_default()
     };
-    out
+    Ok(out)
 }

@@ -6,10 +6,10 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Perimeter condition of the grid (seed Table 4.5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Boundary {
     /// Grid ends clipped to the wall angle, sliding along their own axis.
@@ -28,7 +28,7 @@ pub enum Variant {
 }
 
 /// The along-axis law of each perimeter grid end (seed 5.1.1, 5.1.2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum Perimeter {
     /// Elastic friction spring K_friction, no contact.
@@ -64,7 +64,7 @@ impl Perimeter {
 
 /// The law of the grid connections (main-cross and cross-sub cross tee
 /// joints, main-tee splices).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum Connections {
     /// Continuous members through the joints (no connection springs).
@@ -88,7 +88,7 @@ impl Connections {
 }
 
 /// The `[structure]` table (nominal values).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Structure {
     /// Plan size along x (m), a multiple of `module_m`.
@@ -133,7 +133,7 @@ struct ModelTable {
 
 /// The `[model]` table: which model variant to build (defaults: linear
 /// perimeter, rigid connections).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, Default)]
 #[serde(try_from = "ModelTable")]
 pub struct ModelOptions {
     /// Along-axis law at the perimeter.
@@ -181,7 +181,7 @@ impl ModelOptions {
 
 /// A specimen file: `[structure]` plus optional `[model]`; other tables of a
 /// bundle (`sensors`, `runs`, ...) are ignored.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 pub struct CeilingSpec {
     /// The structure as built.
     pub structure: Structure,

@@ -4,10 +4,10 @@
 //! an [`fe::ceiling::Sensor`] and one history of the run.
 
 use fe::ceiling::{Direction, Sensor, SensorKind};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// What a sensor measures (`kind`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SensorKindOption {
     /// Absolute acceleration (m/s²).
@@ -17,7 +17,7 @@ pub enum SensorKindOption {
 }
 
 /// Measuring direction (`direction`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DirectionOption {
     /// Along x.
@@ -27,16 +27,18 @@ pub enum DirectionOption {
 }
 
 /// One `[[model.sensors]]` table.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorOptions {
     /// Identifier: letters, digits, `_`, `-` or `.` (it names a history).
     pub id: String,
     /// What it measures.
     pub kind: SensorKindOption,
-    /// Plan position x (m).
+    /// Plan position x (m); a number or its exact decimal text.
+    #[serde(with = "crate::exact_json::f64_text")]
     pub x_m: f64,
-    /// Plan position y (m).
+    /// Plan position y (m); a number or its exact decimal text.
+    #[serde(with = "crate::exact_json::f64_text")]
     pub y_m: f64,
     /// Measuring direction.
     pub direction: DirectionOption,

@@ -1,0 +1,144 @@
+//! A diagnosis's evaluation as a farm study of the worker kind
+//! `ceiling-campaign`: the model spec (the variant's specimen, the runs with
+//! their inputs and sensors, the spring groups), its hash, each point's task
+//! parameters, and the workers' outputs back in the bundle's units. The
+//! worker runs exactly what [`Evaluation::simulate`] (sensors) or
+//! [`Evaluation::demand_at`] (spring peaks) runs, so the numbers match bit
+//! for bit.
+
+use super::cause::Demand;
+use super::fit::{measured_sensors, Evaluation, Simulated, CONNECTION_GROUP, PERIMETER_GROUP};
+use crate::bundle::{self, Bundle};
+use crate::specimen::to_bundle_units;
+use crate::study::hash_keys;
+use fe::ceiling::SimOptions;
+use protocol::{ModelSpec, Outputs};
+use std::collections::BTreeMap;
+use worker::ceiling::sensors::{DirectionOption, SensorKindOption, SensorOptions};
+use worker::ceiling_campaign::{CampaignOptions, CampaignRun};
+
+/// The registry name of the worker kind.
+pub const KIND: &str = "ceiling-campaign";
+
+/// What a study computes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Purpose {
+    /// The sensors' time histories ([`Evaluation::simulate`]).
+    Histories,
+    /// The spring-group peaks ([`Evaluation::demand_at`]).
+    Demand,
+}
+
+/// One evaluation as a farm study.
+#[derive(Debug, Clone)]
+pub struct CampaignStudy {
+    /// What the workers build.
+    pub spec: ModelSpec,
+    /// SHA-256 (hex) of the spec: the study hash.
+    pub hash: String,
+}
+
+/// The farm study of `ev` for `purpose`.
+pub fn campaign_study(ev: &Evaluation<'_>, purpose: Purpose) -> Result<CampaignStudy, String> {
+    let spec = ev.fe_spec()?;
+    let spec_toml = toml::to_string(&spec).map_err(|e| format!("specimen as TOML: {e}"))?;
+    let (groups, with_sensors) = match purpose {
+        Purpose::Histories => (vec![], true),
+        Purpose::Demand => (vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()], false),
+    };
+    let runs = ev.runs.iter().map(|&k| campaign_run(ev.bundle, k, with_sensors)).collect();
+    let options = CampaignOptions {
+        spec_toml,
+        damping_ratio: SimOptions::default().damping_ratio,
+        rayleigh_groups: vec![PERIMETER_GROUP.into()],
+        spring_groups: groups,
+        runs,
+    };
+    let options_json = serde_json::to_string(&options).map_err(|e| e.to_string())?;
+    let mid: Vec<f64> = ev.priors.iter().map(|p| p.at(0.5)).collect();
+    let param_names = ev.assignments(&mid).iter().map(|(n, _)| n.to_string()).collect();
+    let spec = ModelSpec { kind: KIND.into(), options_json, param_names, outputs: vec![] };
+    let keys = BTreeMap::from([
+        ("kind".to_string(), spec.kind.clone()),
+        ("options".to_string(), spec.options_json.clone()),
+        ("parameters".to_string(), spec.param_names.join("\u{1f}")),
+    ]);
+    Ok(CampaignStudy { hash: hash_keys(&keys), spec })
+}
+
+/// A bundle run as a campaign run (its measured sensors or none).
+fn campaign_run(b: &Bundle, k: usize, with_sensors: bool) -> CampaignRun {
+    let run = &b.runs[k];
+    let sensors = if with_sensors { measured_sensors(b, run) } else { vec![] };
+    CampaignRun {
+        id: run.id.clone(),
+        dt_s: run.dt_s,
+        input_x_m_s2: run.input_x_m_s2.clone(),
+        input_y_m_s2: run.input_y_m_s2.clone(),
+        sensors: sensors.iter().map(sensor_options).collect(),
+    }
+}
+
+/// A bundle sensor as the worker reads it.
+fn sensor_options(s: &bundle::Sensor) -> SensorOptions {
+    SensorOptions {
+        id: s.id.clone(),
+        kind: match s.kind {
+            bundle::SensorKind::Acceleration => SensorKindOption::Acceleration,
+            bundle::SensorKind::Displacement => SensorKindOption::Displacement,
+        },
+        x_m: s.x_m,
+        y_m: s.y_m,
+        direction: match s.direction {
+            bundle::Direction::X => DirectionOption::X,
+            bundle::Direction::Y => DirectionOption::Y,
+        },
+    }
+}
+
+/// The task parameters of `theta`, or why the point cannot be set up (the
+/// same message [`Evaluation::simulate`] gives).
+pub fn task_params(
+    ev: &Evaluation<'_>,
+    study: &CampaignStudy,
+    theta: &[f64],
+) -> Result<Vec<f64>, String> {
+    ev.setup(theta)?;
+    let pairs = ev.assignments(theta);
+    let names_match = pairs.len() == study.spec.param_names.len()
+        && pairs.iter().zip(&study.spec.param_names).all(|((a, _), b)| a == b);
+    if !names_match {
+        return Err(format!("parameter names at {theta:?} differ from the study's"));
+    }
+    Ok(pairs.into_iter().map(|(_, v)| v).collect())
+}
+
+/// The simulated runs of `ev` from a worker's outputs (bundle units).
+pub fn simulated(ev: &Evaluation<'_>, out: &Outputs) -> Result<Vec<Simulated>, String> {
+    let mut histories = out.histories.iter();
+    let mut sims = Vec::with_capacity(ev.runs.len());
+    for &k in ev.runs {
+        let run = &ev.bundle.runs[k];
+        let mut series = Vec::new();
+        for s in measured_sensors(ev.bundle, run) {
+            let name = format!("{}/{}", run.id, s.id);
+            let h = histories.next().filter(|h| h.name == name && h.channels.len() == 1);
+            let h = h.ok_or_else(|| format!("expected history {name} with one channel"))?;
+            let f = to_bundle_units(s.kind);
+            series.push((s.id.clone(), h.data.iter().map(|v| v * f).collect()));
+        }
+        sims.push(series);
+    }
+    Ok(sims)
+}
+
+/// The demand of `ev` from a worker's spring-group peaks.
+pub fn demand(ev: &Evaluation<'_>, out: &Outputs) -> Result<Demand, String> {
+    let get = |name: String| out.scalar(&name).ok_or_else(|| format!("expected scalar {name}"));
+    Ok(Demand {
+        perimeter_mm: get(format!("{PERIMETER_GROUP}_deformation_mm"))?,
+        perimeter_n: get(format!("{PERIMETER_GROUP}_force_n"))?,
+        connection_n: get(format!("{CONNECTION_GROUP}_force_n"))?,
+        nominal_gap_mm: ev.fe_spec()?.structure.nominal_gap_mm,
+    })
+}
