@@ -185,7 +185,10 @@ fn farm_run(
     let cpu = cpu_s() - c0;
     if std::env::var_os("BENCH_CPU_SPLIT").is_some() {
         let (own, kids) = cpu::cpu_s();
-        eprintln!("{} x{workers}: own total {own:.2} s, children total {kids:.2} s", setup.kind.as_str());
+        eprintln!(
+            "{} x{workers}: own total {own:.2} s, children total {kids:.2} s",
+            setup.kind.as_str()
+        );
     }
     assert_eq!(s.ok, n, "every task once");
     // A run so short that it ended before every worker was in: time it all.
@@ -326,7 +329,8 @@ fn direct_run(spec: &ModelSpec, tasks: &[Task], threads: usize) -> f64 {
             scope.spawn(move || {
                 let model = worker::registry::build(spec).expect("model");
                 for task in tasks.iter().skip(t).step_by(threads) {
-                    let out = worker::run::run_task(&*model, &spec.param_names, task.id, &task.params);
+                    let out =
+                        worker::run::run_task(&*model, &spec.param_names, task.id, &task.params);
                     assert!(matches!(out, protocol::Outcome::Ok(_)), "task {:?} failed", task.id);
                 }
             });
