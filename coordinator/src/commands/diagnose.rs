@@ -88,12 +88,13 @@ pub fn diagnose_dir(
     })?;
     bar.finish_and_clear();
     let ids: Vec<String> = bundle.manifest.runs.iter().map(|r| r.id.clone()).collect();
-    let v = verdict(&d, &ids).with_symptoms(&evidence(&bundle, &d));
+    let symptoms = evidence(&bundle, &d);
+    let v = verdict(&d, &ids).with_symptoms(&symptoms);
     let json = out.join("diagnosis.json");
     std::fs::write(&json, serde_json::to_string_pretty(&v)?)
         .with_context(|| format!("writing {}", json.display()))?;
     let report = out.join("report.html");
-    let html = coordinator::diagnose::report::render(&bundle, &d);
+    let html = coordinator::diagnose::report::render(&bundle, &d, &symptoms);
     std::fs::write(&report, html).with_context(|| format!("writing {}", report.display()))?;
     eprintln!(
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",

@@ -4,7 +4,7 @@
 //! vs baseline vs extended histories at the sensors where the two models
 //! differ most.
 
-use super::evidence::evidence;
+use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated};
 use super::pipeline::Diagnosis;
 use super::report_symptoms::symptoms_section;
@@ -23,8 +23,9 @@ fn num(v: f64) -> String {
     }
 }
 
-/// The report page as HTML.
-pub fn render(b: &Bundle, d: &Diagnosis) -> String {
+/// The report page as HTML, with the symptoms `e` of the diagnosis
+/// ([`super::evidence::evidence`]).
+pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence) -> String {
     let telling = telling_channels(b, d);
     let page = Page {
         title: format!("Diagnosis of {}", b.manifest.name),
@@ -37,7 +38,7 @@ pub fn render(b: &Bundle, d: &Diagnosis) -> String {
         sections: vec![
             verdict_section(d),
             specimen_section(b, &telling),
-            symptoms_section(&evidence(b, d)),
+            symptoms_section(e),
             comparison_section(d),
             parameters_section(d),
             histories_section(b, d, &telling),
