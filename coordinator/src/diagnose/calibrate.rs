@@ -231,11 +231,23 @@ pub fn calibrate(
     let start = if base.is_some() { search.coarse_start(&mut cal, &mut report)? } else { None };
     let start = start.or_else(|| cal.best(n_eff).map(|k| cal.points[k].u.clone()));
     if let Some(u) = start {
-        let (_, gn) = search.levenberg_marquardt(&mut cal, Scale::Fine, u, &mut report)?;
+        let (mut u, mut gn) = search.levenberg_marquardt(&mut cal, Scale::Fine, u, &mut report)?;
+        for _ in 0..if base.is_some() { SLOPPY_WALKS } else { 0 } {
+            let Some(g) = gn.as_ref() else { break };
+            let Some(from) = search.sloppy_walk(&mut cal, &u, g, &mut report)? else { break };
+            let (end, g) = search.levenberg_marquardt(&mut cal, Scale::Fine, from, &mut report)?;
+            let Some(g) = g else { break };
+            (u, gn) = (end, Some(g));
+        }
         cal.gauss_newton = gn;
     }
     Ok(cal)
 }
+
+/// Walks along the least-determined direction after a local search.
+const SLOPPY_WALKS: usize = 2;
+/// Distances (unit cube) probed each way along the least-determined direction.
+const SLOPPY_STEPS: [f64; 4] = [0.03, 0.06, 0.12, 0.24];
 
 /// What the final searches share: the variant, the weights, the budget and
 /// who runs the FE model.
@@ -287,6 +299,44 @@ impl Search<'_, '_> {
             }
         }
         Ok(Some(pick))
+    }
+
+    /// Probes the valley a local search stopped in: points at
+    /// ±[`SLOPPY_STEPS`] from `u` along [`sloppy_direction`] (the
+    /// combination of the extension's parameters the data pin down least,
+    /// the others following; a hysteretic model's likelihood has a long,
+    /// narrow, bumpy floor there that finite-difference steps stall on), all
+    /// at once. Returns the best probe if it beats `u` by 0.01 nats.
+    fn sloppy_walk(
+        &mut self,
+        cal: &mut Calibration,
+        u: &[f64],
+        gn: &DMatrix<f64>,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Option<Vec<f64>>, ExecutorError> {
+        let Some(v) = sloppy_direction(gn, &cal.free) else { return Ok(None) };
+        let probes: Vec<Vec<f64>> = SLOPPY_STEPS
+            .iter()
+            .flat_map(|t| [*t, -*t])
+            .map(|t| u.iter().zip(v.iter()).map(|(x, d)| (x + t * d).clamp(0.0, 1.0)).collect())
+            .collect();
+        let f_u = cal
+            .points
+            .iter()
+            .rev()
+            .find(|p| p.u == u)
+            .and_then(|p| p.fit.as_ref().ok().map(|ch| neg_log_lik(ch, self.n_eff)))
+            .unwrap_or(f64::INFINITY);
+        let points = evaluate_points(self.ev, &probes, self.exec)?;
+        let best = points
+            .iter()
+            .filter_map(|p| p.fit.as_ref().ok().map(|ch| (neg_log_lik(ch, self.n_eff), &p.u)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .filter(|(f, _)| *f < f_u - 0.01)
+            .map(|(_, u)| u.clone());
+        cal.points.extend(points);
+        progress(cal.points.len());
+        Ok(best)
     }
 
     /// Levenberg–Marquardt on −log L = Σ n_c/2 · log SSR_c over every
@@ -417,6 +467,33 @@ impl Search<'_, '_> {
     }
 }
 
+/// The least-determined direction of the `free` parameters when the others
+/// follow it (the smallest eigenvector of the Schur complement of the
+/// Gauss–Newton matrix `gn` on `free`, extended by the others' conditional
+/// optimum −H_bb⁻¹ H_be v), of unit length over `free`.
+pub fn sloppy_direction(gn: &DMatrix<f64>, free: &[usize]) -> Option<DVector<f64>> {
+    let k = gn.nrows();
+    let held: Vec<usize> = (0..k).filter(|i| !free.contains(i)).collect();
+    let sub =
+        |r: &[usize], c: &[usize]| DMatrix::from_fn(r.len(), c.len(), |i, j| gn[(r[i], c[j])]);
+    let (h_ee, h_eb, h_bb) = (sub(free, free), sub(free, &held), sub(&held, &held));
+    let ridge = 1e-9 * (h_bb.trace().abs() + 1.0);
+    let h_bb = h_bb + DMatrix::identity(held.len(), held.len()) * ridge;
+    let solve = |m: &DMatrix<f64>| h_bb.clone().cholesky().map(|c| c.solve(m));
+    let schur = if held.is_empty() { h_ee } else { &h_ee - &h_eb * solve(&h_eb.transpose())? };
+    let eig = nalgebra::SymmetricEigen::new(schur);
+    let min = (0..eig.eigenvalues.len())
+        .filter(|i| eig.eigenvalues[*i].is_finite())
+        .min_by(|a, b| eig.eigenvalues[*a].total_cmp(&eig.eigenvalues[*b]))?;
+    let v_e = DMatrix::from_iterator(free.len(), 1, eig.eigenvectors.column(min).iter().copied());
+    let v_b =
+        if held.is_empty() { DMatrix::zeros(0, 1) } else { -solve(&(h_eb.transpose() * &v_e))? };
+    let mut v = DVector::zeros(k);
+    free.iter().zip(v_e.iter()).for_each(|(i, x)| v[*i] = *x);
+    held.iter().zip(v_b.iter()).for_each(|(i, x)| v[*i] = *x);
+    Some(v)
+}
+
 /// Points where the emulator's mean is lowest: the minimiser from a dense
 /// quasi-random search polished by a shrinking pattern search, then the
 /// best points of the search that are not too close to each other.
@@ -466,4 +543,53 @@ pub fn polish(gp: &Gp, start: &[f64]) -> Vec<f64> {
         }
     }
     x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn sloppy_direction_of_a_two_parameter_quadratic() {
+        // Schur complement on parameter 1: 3 − 2·2/4 = 2; the held one
+        // follows by −2/4.
+        let h = DMatrix::from_row_slice(2, 2, &[4.0, 2.0, 2.0, 3.0]);
+        let v = sloppy_direction(&h, &[1]).unwrap();
+        // (1e-8: the ridge that keeps H_bb invertible)
+        assert!((v[1].abs() - 1.0).abs() < 1e-12 && (v[0] / v[1] + 0.5).abs() < 1e-8, "{v}");
+    }
+
+    proptest! {
+        /// Along the direction the held parameters stay at their
+        /// conditional optimum (H v vanishes on them), and the curvature
+        /// vᵀHv is the smallest over unit directions of the free ones.
+        #[test]
+        fn sloppy_direction_follows_the_valley(
+            a in proptest::collection::vec(-1.0f64..1.0, 16),
+            nfree in 1usize..4,
+        ) {
+            let m = DMatrix::from_row_slice(4, 4, &a);
+            let h = &m * m.transpose() + DMatrix::identity(4, 4) * 0.1;
+            let free: Vec<usize> = (4 - nfree..4).collect();
+            let v = sloppy_direction(&h, &free).unwrap();
+            let hv = &h * &v;
+            for i in 0..4 - nfree {
+                prop_assert!(hv[i].abs() < 1e-8 * h.norm(), "H v on held {i}: {}", hv[i]);
+            }
+            let norm: f64 = free.iter().map(|i| v[*i] * v[*i]).sum::<f64>().sqrt();
+            prop_assert!((norm - 1.0).abs() < 1e-10);
+            let curv = v.dot(&hv);
+            for j in 0..nfree {
+                // Any other free direction, the held following optimally,
+                // curves at least as much.
+                let mut e = DMatrix::zeros(nfree, 1);
+                e[j] = 1.0;
+                let held: Vec<usize> = (0..4 - nfree).collect();
+                let sub = |r: &[usize], c: &[usize]| DMatrix::from_fn(r.len(), c.len(), |x, y| h[(r[x], c[y])]);
+                let s = sub(&free, &free) - sub(&free, &held) * sub(&held, &held).try_inverse().unwrap() * sub(&held, &free);
+                prop_assert!((e.transpose() * &s * &e)[0] >= curv - 1e-9 * h.norm());
+            }
+        }
+    }
 }
