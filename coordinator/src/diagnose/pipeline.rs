@@ -8,6 +8,7 @@ use super::cause::Cause;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
 use super::fit::{effective_sizes, mean_nrmse, Evaluation, Simulated};
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
+use super::posterior::{variational_posterior, VariationalPosterior};
 use crate::bundle::{Bundle, RunRole};
 
 /// Choices of a diagnosis.
@@ -63,6 +64,9 @@ pub struct CandidateResult {
     pub calibration_sims: Vec<Simulated>,
     /// Whether it was selected.
     pub selected: bool,
+    /// The variational posterior (selected variant only), or why it could
+    /// not be had.
+    pub posterior: Option<Result<VariationalPosterior, String>>,
 }
 
 /// The whole diagnosis.
@@ -188,6 +192,9 @@ pub fn diagnose_with(
     }
     let pick = select(&results);
     results[pick].selected = true;
+    progress("posterior (BBVI)", 0, 1);
+    results[pick].posterior = Some(variational_posterior(&cals[pick], &n_eff, opts.budget.seed));
+    progress("posterior (BBVI)", 1, 1);
     let base = results[0].validation_error;
     let ext = results[pick].validation_error;
     Ok(Diagnosis {
@@ -266,6 +273,7 @@ fn assess(
         validation_sims: vec![],
         calibration_sims: vec![],
         selected: false,
+        posterior: None,
     };
     let Some(best) = cal.best(n_eff) else { return Ok(out) };
     let u = &cal.points[best].u;

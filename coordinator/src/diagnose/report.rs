@@ -1,12 +1,14 @@
 //! `report.html` of a diagnosis: the verdict, the specimen, the symptoms
 //! (table and plots, [`super::report_symptoms`]), the model comparison (MDL
-//! table and chart), the chosen model's calibrated parameters, and measured
+//! table and chart), the chosen model's calibrated parameters and posterior
+//! ([`super::report_posterior`]), and measured
 //! vs baseline vs extended histories at the sensors where the two models
 //! differ most.
 
 use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated};
 use super::pipeline::Diagnosis;
+use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
 use super::symptoms::{half_cycle_peaks, rms};
 use crate::bundle::{Bundle, SensorKind};
@@ -41,6 +43,7 @@ pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence) -> String {
             symptoms_section(e),
             comparison_section(d),
             parameters_section(d),
+            posterior_section(d),
             histories_section(b, d, &telling),
         ],
     };

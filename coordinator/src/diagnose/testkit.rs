@@ -186,6 +186,7 @@ pub fn pounding_diagnosis(
         validation_sims: vec![sims[2].clone()],
         calibration_sims: sims[..2].to_vec(),
         selected,
+        posterior: None,
     };
     let d = Diagnosis {
         bundle: "sdof-campaign".into(),

@@ -31,6 +31,60 @@ pub struct CandidateJson {
     pub fe_points: usize,
     /// Calibrated values by name.
     pub parameters: std::collections::BTreeMap<String, f64>,
+    /// The variational posterior (chosen variant only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub posterior: Option<PosteriorJson>,
+}
+
+/// A variant's posterior as written: per parameter mean, sd and central
+/// 95 % interval (prior units), or why it could not be had.
+#[derive(Debug, Clone, Serialize)]
+pub struct PosteriorJson {
+    /// How it was obtained.
+    pub method: String,
+    /// Per parameter: mean, sd, 2.5 % and 97.5 % quantiles.
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub parameters: std::collections::BTreeMap<String, [f64; 4]>,
+    /// BBVI iterations.
+    pub iterations: usize,
+    /// Whether BBVI converged.
+    pub converged: bool,
+    /// Relative change of q's last two window averages.
+    pub rel_change: Option<f64>,
+    /// Why there is no posterior.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_computable: Option<String>,
+}
+
+/// The method line of a posterior.
+pub const POSTERIOR_METHOD: &str = "BBVI (full-rank Gaussian on the logit of the prior box) on \
+    an emulator of -log L: Gauss-Newton quadratic at the estimate plus a GP through the \
+    FE-evaluated misfits near it";
+
+fn posterior_json(
+    p: &Option<Result<super::posterior::VariationalPosterior, String>>,
+) -> Option<PosteriorJson> {
+    let method = POSTERIOR_METHOD.to_string();
+    match p.as_ref()? {
+        Ok(p) => Some(PosteriorJson {
+            method,
+            parameters: (0..p.names.len())
+                .map(|k| (p.names[k].clone(), [p.mean[k], p.sd[k], p.q025[k], p.q975[k]]))
+                .collect(),
+            iterations: p.iterations,
+            converged: p.converged,
+            rel_change: Some(p.rel_change),
+            not_computable: None,
+        }),
+        Err(why) => Some(PosteriorJson {
+            method,
+            parameters: Default::default(),
+            iterations: 0,
+            converged: false,
+            rel_change: None,
+            not_computable: Some(why.clone()),
+        }),
+    }
 }
 
 /// The verdict as written.
@@ -129,6 +183,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 k: c.cause.priors().len(),
                 fe_points: c.fe_points,
                 parameters: c.estimates.iter().map(|e| (e.name.clone(), e.value)).collect(),
+                posterior: posterior_json(&c.posterior),
             })
             .collect(),
         baseline_validation_error: d.baseline_validation_error,
