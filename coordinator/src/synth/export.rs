@@ -130,8 +130,8 @@ fn transient_stanza(run_id: &str, prep: &PreparedRun) -> Map<String, Value> {
                    "sha256": sha256_hex(text.as_bytes())})
         })
         .collect();
+    // `"type": "transient"` comes from the Analysis enum's tag.
     let mut m = Map::new();
-    m.insert("type".into(), json!("transient"));
     m.insert(
         "initial_state".into(),
         json!("at rest and undeformed at t = 0; no gravity load; small displacements"),

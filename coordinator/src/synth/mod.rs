@@ -430,4 +430,6 @@ pub fn synth_to_dir_with(
 }
 
 #[cfg(test)]
+mod export_tests;
+#[cfg(test)]
 mod tests;
