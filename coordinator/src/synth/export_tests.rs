@@ -13,8 +13,12 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 fn campaign(dir: &Path, seed: u64) -> PathBuf {
+    // A third sensor between grid nodes, read by interpolation weights.
+    let between = "\n[[sensors]]\nid = \"B\"\nkind = \"acceleration\"\nx_m = 0.9\ny_m = 1.5\n\
+                   direction = \"y\"\nunits = \"m/s2\"\n";
     let text = SPEC.replace("seed = 3", &format!("seed = {seed}"))
-        + "\n[hidden]\neffect = \"perimeter-friction\"\n";
+        + "\n[hidden]\neffect = \"perimeter-friction\"\n"
+        + between;
     let p = dir.join("campaign.toml");
     std::fs::write(&p, text).unwrap();
     p
@@ -105,6 +109,8 @@ fn exported_models_replayed_rebuild_the_bundle() {
             .unwrap();
     assert_eq!(side["sensors"][0]["columns"][0], "A#0");
     assert_eq!(side["sensors"][1]["to_bundle"], 1.0);
+    let w: Vec<f64> = serde_json::from_value(side["sensors"][2]["weights"].clone()).unwrap();
+    assert!(w.len() > 1 && (w.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{w:?}");
     let out = tmp.path().join("replayed");
     let sim = Simulator::Histories(&mdir);
     let ans2 =
