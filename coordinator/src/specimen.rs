@@ -87,13 +87,21 @@ pub fn simulate_run(
 ) -> Result<(Vec<(String, Vec<f64>)>, fe::ceiling::Simulation), fe::ceiling::CeilingError> {
     let fe_sensors: Vec<Sensor> = sensors.iter().map(fe_sensor).collect();
     let sim = fe::ceiling::simulate(spec, params, input, &fe_sensors, opts, &mut |_| {})?;
-    let series = sensors
+    Ok((bundle_series(sensors, &sim), sim))
+}
+
+/// A simulation's sensor histories in the bundle's internal units:
+/// (sensor id, samples) for every sensor.
+pub fn bundle_series(
+    sensors: &[bundle::Sensor],
+    sim: &fe::ceiling::Simulation,
+) -> Vec<(String, Vec<f64>)> {
+    sensors
         .iter()
         .zip(&sim.sensors)
         .map(|(s, h)| {
             let k = to_bundle_units(s.kind);
             (s.id.clone(), h.values.iter().map(|v| v * k).collect())
         })
-        .collect();
-    Ok((series, sim))
+        .collect()
 }

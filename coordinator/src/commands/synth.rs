@@ -16,6 +16,15 @@ pub struct Args {
     /// Where the answer goes (default: DIR.answer.json beside the bundle).
     #[arg(long)]
     pub answer: Option<PathBuf>,
+    /// Also write every run's true FE model, base records and sensor recipe
+    /// here (for another simulator: scripts/opensees/run_campaign.py).
+    #[arg(long, value_name = "MDIR", conflicts_with = "histories")]
+    pub export_models: Option<PathBuf>,
+    /// Assemble the bundle from another simulator's histories of the models
+    /// exported to MDIR (`<run>.history.csv`, `modal.json`, `simulator.json`)
+    /// instead of simulating.
+    #[arg(long, value_name = "MDIR")]
+    pub histories: Option<PathBuf>,
 }
 
 /// Runs `synth`.
@@ -25,15 +34,25 @@ pub fn run(a: Args) -> Result<()> {
         name.push(".answer.json");
         a.out.with_file_name(name)
     });
-    let ans = coordinator::synth::synth_to_dir(&a.spec, &a.out, &answer, &mut |m| {
-        eprintln!("synth: {m}")
-    })?;
+    use coordinator::synth::Simulator;
+    let simulator = match (&a.export_models, &a.histories) {
+        (_, Some(dir)) => Simulator::Histories(dir),
+        (export, None) => Simulator::Ceilfarm { export: export.as_deref() },
+    };
+    let ans =
+        coordinator::synth::synth_to_dir_with(&a.spec, &a.out, &answer, simulator, &mut |m| {
+            eprintln!("synth: {m}")
+        })?;
     println!(
-        "wrote bundle {} to {} ({} hidden); answer in {}",
+        "wrote bundle {} to {} ({} hidden, simulated by {}); answer in {}",
         ans.bundle,
         a.out.display(),
         ans.cause,
+        ans.simulator,
         answer.display()
     );
+    if let Some(dir) = &a.export_models {
+        println!("exported the run models to {}", dir.display());
+    }
     Ok(())
 }

@@ -12,13 +12,15 @@
 //! scales the CJS-A backbone so that the peak connection force is 1.5 / 4 /
 //! 8 times its first backbone force (150 N).
 
+pub mod export;
+pub mod histories;
 pub mod input;
 pub mod noise;
 pub mod spec;
 
 use crate::bundle::{self, Bundle, Manifest, ModalEntry, RunData, RunMeta, FORMAT};
 use crate::diagnose::cause::Cause;
-use crate::specimen::{fe_spec, simulate_run, SpecimenError};
+use crate::specimen::{bundle_series, fe_sensor, fe_spec, simulate_run, SpecimenError};
 use fe::ceiling::{BaseInput, SimOptions};
 use fe::generator::{CeilingSpec, Parameters};
 use rand::SeedableRng;
@@ -52,6 +54,21 @@ pub struct Answer {
     pub baseline_demand: Option<[f64; 3]>,
     /// Random seed.
     pub seed: u64,
+    /// The code that computed the time histories (`ceilfarm`, `opensees`).
+    pub simulator: String,
+}
+
+/// Where a campaign's sensor histories come from.
+#[derive(Debug, Clone, Copy)]
+pub enum Simulator<'a> {
+    /// ceilfarm's own FE solver; with a folder, every run's true model is
+    /// exported there as well ([`export`]).
+    Ceilfarm {
+        /// `--export-models` folder.
+        export: Option<&'a Path>,
+    },
+    /// Another simulator's histories of the exported runs ([`histories`]).
+    Histories(&'a Path),
 }
 
 /// Why a campaign could not be synthesised.
@@ -85,12 +102,28 @@ pub enum SynthError {
     /// The bundle could not be assembled or written.
     #[error(transparent)]
     Bundle(#[from] bundle::BundleError),
+    /// A run model could not be exported.
+    #[error(transparent)]
+    Export(#[from] export::ExportError),
+    /// Another simulator's history cannot be used.
+    #[error(transparent)]
+    History(#[from] histories::HistoryError),
 }
 
 /// Simulates the campaign; returns the bundle and its answer.
 pub fn synthesize(
     spec: &SynthSpec,
     base_dir: &Path,
+    observer: &mut dyn FnMut(&str),
+) -> Result<(Bundle, Answer), SynthError> {
+    synthesize_with(spec, base_dir, Simulator::Ceilfarm { export: None }, observer)
+}
+
+/// Simulates the campaign with `simulator`; returns the bundle and its answer.
+pub fn synthesize_with(
+    spec: &SynthSpec,
+    base_dir: &Path,
+    simulator: Simulator<'_>,
     observer: &mut dyn FnMut(&str),
 ) -> Result<(Bundle, Answer), SynthError> {
     let cause = match spec.hidden.effect.as_deref() {
@@ -128,7 +161,17 @@ pub fn synthesize(
         })?;
     }
     let (runs, freq_hz) =
-        simulate_runs(spec, &truth_spec, &params, &inputs, &base_inputs, observer)?;
+        simulate_runs(spec, &truth_spec, &params, &inputs, &base_inputs, simulator, observer)?;
+    let (simulator_name, freq_hz) = match simulator {
+        Simulator::Ceilfarm { .. } => ("ceilfarm".to_string(), freq_hz),
+        Simulator::Histories(dir) => {
+            let name = histories::read_simulator(dir)?;
+            match &spec.modal {
+                Some(m) => (name, histories::read_modal(dir, m.modes)?),
+                None => (name, freq_hz),
+            }
+        }
+    };
     let bundle = assemble(spec, runs, modal(spec, &freq_hz));
     let answer = Answer {
         format: "ceiling-synth-answer/1".into(),
@@ -139,6 +182,7 @@ pub fn synthesize(
         damping_ratio: spec.truth.damping_ratio,
         baseline_demand: demand,
         seed: spec.seed,
+        simulator: simulator_name,
     };
     Ok((bundle, answer))
 }
@@ -224,6 +268,7 @@ fn simulate_runs(
     params: &Parameters,
     inputs: &[(Vec<f64>, f64)],
     base: &[BaseInput],
+    simulator: Simulator<'_>,
     observer: &mut dyn FnMut(&str),
 ) -> Result<(Runs, Vec<f64>), SynthError> {
     let n_modes = spec.modal.as_ref().map_or(6, |m| m.modes.max(1));
@@ -238,8 +283,8 @@ fn simulate_runs(
     let mut freq_hz = Vec::new();
     for (k, ((r, (a, dt)), input)) in spec.runs.iter().zip(inputs).zip(base).enumerate() {
         observer(&format!("run {} of {}: {}", k + 1, spec.runs.len(), r.id));
-        let (mut series, sim) = simulate_run(fe, params, &spec.sensors, input, &opts)
-            .map_err(|e| SynthError::Simulation { run: r.id.clone(), message: e.to_string() })?;
+        let sim = run_histories(spec, fe, params, input, &opts, &r.id, k == 0, simulator)?;
+        let mut series = bundle_series(&spec.sensors, &sim);
         for ((_, v), s) in series.iter_mut().zip(&spec.sensors) {
             noise::degrade(v, s.kind, &spec.noise, &mut rng);
         }
@@ -269,6 +314,48 @@ fn simulate_runs(
         runs.push((meta, data));
     }
     Ok((runs, freq_hz))
+}
+
+/// One run's simulation: by ceilfarm (exporting it first when asked) or
+/// read from another simulator's history of the exported run.
+#[allow(clippy::too_many_arguments)]
+fn run_histories(
+    spec: &SynthSpec,
+    fe: &CeilingSpec,
+    params: &Parameters,
+    input: &BaseInput,
+    opts: &SimOptions,
+    run_id: &str,
+    first: bool,
+    simulator: Simulator<'_>,
+) -> Result<fe::ceiling::Simulation, SynthError> {
+    let fail = |e: fe::ceiling::CeilingError| SynthError::Simulation {
+        run: run_id.into(),
+        message: e.to_string(),
+    };
+    let sensors: Vec<_> = spec.sensors.iter().map(fe_sensor).collect();
+    let prep = fe::ceiling::prepare(fe, params, input, &sensors, opts).map_err(fail)?;
+    let hist = match simulator {
+        Simulator::Ceilfarm { export } => {
+            if let Some(dir) = export {
+                export::write_run(dir, spec, run_id, &prep)?;
+            }
+            let hist = fe::ceiling::run_prepared(&prep, &mut |_| {}).map_err(fail)?;
+            if let Some(dir) = export {
+                export::write_ceilfarm_history(dir, run_id, &prep, &hist)?;
+                match (&spec.modal, first) {
+                    (Some(m), true) => export::write_modal(dir, run_id, m.modes, &prep)?,
+                    _ => {}
+                }
+            }
+            hist
+        }
+        Simulator::Histories(dir) => {
+            histories::check_model(dir, spec, run_id, &prep)?;
+            histories::read_run_history(dir, run_id, &prep)?
+        }
+    };
+    Ok(fe::ceiling::read_history(&prep, &hist))
 }
 
 /// `modal.csv` entries: the true frequencies plus Gaussian noise.
@@ -314,9 +401,20 @@ pub fn synth_to_dir(
     answer: &Path,
     observer: &mut dyn FnMut(&str),
 ) -> anyhow::Result<Answer> {
+    synth_to_dir_with(spec_path, out, answer, Simulator::Ceilfarm { export: None }, observer)
+}
+
+/// [`synth_to_dir`] with the histories from `simulator`.
+pub fn synth_to_dir_with(
+    spec_path: &Path,
+    out: &Path,
+    answer: &Path,
+    simulator: Simulator<'_>,
+    observer: &mut dyn FnMut(&str),
+) -> anyhow::Result<Answer> {
     let spec = SynthSpec::from_file(spec_path)?;
     let base = spec_path.parent().unwrap_or(Path::new("."));
-    let (bundle, ans) = synthesize(&spec, base, observer)?;
+    let (bundle, ans) = synthesize_with(&spec, base, simulator, observer)?;
     if answer.starts_with(out) {
         anyhow::bail!(
             "--answer {}: must lie outside the bundle directory {}",
@@ -331,5 +429,7 @@ pub fn synth_to_dir(
     Ok(ans)
 }
 
+#[cfg(test)]
+mod export_tests;
 #[cfg(test)]
 mod tests;

@@ -5,7 +5,7 @@ use super::spec::SynthSpec;
 use super::synth_to_dir;
 use crate::bundle::read_bundle;
 
-const SPEC: &str = r#"
+pub(super) const SPEC: &str = r#"
 name = "tiny"
 seed = 3
 [structure]

@@ -9,10 +9,15 @@
 
 pub mod damping;
 pub mod input;
+pub mod prepare;
 pub mod sensor;
 pub mod simulate;
 
 pub use damping::{rayleigh_on_first_modes, RayleighFit};
 pub use input::{sine_sweep, BaseInput, SineSweep};
+pub use prepare::{prepare, PreparedRun};
 pub use sensor::{Direction, Sensor, SensorKind};
-pub use simulate::{simulate, CeilingError, SensorHistory, SimOptions, Simulation, SpringPeak};
+pub use simulate::{
+    read_history, run_prepared, simulate, CeilingError, SensorHistory, SimOptions, Simulation,
+    SpringPeak,
+};

@@ -1,17 +1,15 @@
-//! One simulated shaking-table run: generate the model, find its modes,
-//! damp it (Rayleigh on the first x and y modes), integrate the base input
-//! (Newmark average acceleration, Newton, step halving) and read the sensors.
+//! One simulated shaking-table run: prepare it ([`super::prepare`]: model,
+//! modes, Rayleigh damping on the first x and y modes, sensors, base motion),
+//! integrate the base input (Newmark average acceleration, Newton, step
+//! halving) and read the sensors from the recorded history.
 
-use super::damping::{rayleigh_on_first_modes, RayleighFit};
+use super::damping::RayleighFit;
 use super::input::BaseInput;
-use super::sensor::{place, Placement, PlacementError, Sensor, SensorKind};
-use crate::eigen::{modal_analysis, EigenError, LanczosSettings};
-use crate::generator::{generate, CeilingSpec, GenerateError, Parameters};
-use crate::model::{Damping, Model};
-use crate::transient::spec::RecorderSpec;
-use crate::transient::{
-    run_plan, BaseMotion, GroundMotion, History, Plan, StepReport, TransientError, TransientOptions,
-};
+use super::prepare::{prepare, PreparedRun};
+use super::sensor::{PlacementError, Sensor};
+use crate::eigen::EigenError;
+use crate::generator::{CeilingSpec, GenerateError, Parameters};
+use crate::transient::{run_plan, History, StepReport, TransientError, TransientOptions};
 
 /// Choices of a simulated run.
 #[derive(Debug, Clone, PartialEq)]
@@ -111,47 +109,30 @@ pub fn simulate(
     opts: &SimOptions,
     observer: &mut dyn FnMut(&StepReport),
 ) -> Result<Simulation, CeilingError> {
-    check(input, opts)?;
-    let mut model = generate(spec, params)?;
-    for sp in model.springs.iter_mut() {
-        if sp.group.as_ref().is_some_and(|g| opts.rayleigh_groups.contains(g)) {
-            sp.rayleigh = true;
-        }
-    }
-    let (_, modal) = modal_analysis(&model, opts.n_modes.max(2), &LanczosSettings::default())?;
-    let rayleigh = rayleigh_on_first_modes(&modal, opts.damping_ratio)
-        .ok_or_else(|| CeilingError::Input("no mode moves mass in x or y".into()))?;
-    model.damping = Some(Damping {
-        kind: "rayleigh".into(),
-        alpha_m_per_s: rayleigh.alpha_m_per_s,
-        beta_k_s: rayleigh.beta_k_s,
-        extra: Default::default(),
-    });
-    let (nx, ny) = grid_size(spec);
-    let placements: Vec<Placement> = sensors
-        .iter()
-        .map(|s| place(s, &model, spec.structure.module_m, nx, ny))
-        .collect::<Result<_, _>>()?;
-    let mut recorders = recorder_specs(sensors, &placements);
-    let n_sensor_cols = recorders.len();
-    let groups = spring_recorders(&model, &opts.spring_groups, &mut recorders);
-    let base = base_motion(input);
-    let plan = Plan {
-        base: &base,
-        dt_s: input.dt_s / opts.substeps as f64,
-        n_steps: (input.len() - 1) * opts.substeps,
-        gamma: 0.5,
-        beta: 0.25,
-        output_every_n_steps: opts.substeps,
-        recorders: &recorders,
-    };
-    let hist =
-        run_plan(&model, &plan, &TransientOptions::new(std::path::Path::new(".")), observer)?;
-    let first = hist.columns.len() - recorders.len();
-    let spring_peaks = group_peaks(&hist, first + n_sensor_cols, &opts.spring_groups, &groups);
-    let mut out = Vec::with_capacity(sensors.len());
+    let run = prepare(spec, params, input, sensors, opts)?;
+    let hist = run_prepared(&run, observer)?;
+    Ok(read_history(&run, &hist))
+}
+
+/// Integrates a prepared run with ceilfarm's transient solver.
+pub fn run_prepared(
+    run: &PreparedRun,
+    observer: &mut dyn FnMut(&StepReport),
+) -> Result<History, CeilingError> {
+    let opts = TransientOptions::new(std::path::Path::new("."));
+    Ok(run_plan(&run.model, &run.plan(), &opts, observer)?)
+}
+
+/// The simulation a prepared run's history gives: its recorders are the last
+/// columns of `hist`, one row per input sample; sensor readings are the
+/// weighted sums of their node columns in m/s² or m.
+pub fn read_history(run: &PreparedRun, hist: &History) -> Simulation {
+    let first = hist.columns.len() - run.recorders.len();
+    let (names, counts): (Vec<String>, Vec<usize>) = run.groups.iter().cloned().unzip();
+    let spring_peaks = group_peaks(hist, first + run.n_sensor_recorders, &names, &counts);
+    let mut out = Vec::with_capacity(run.sensors.len());
     let mut col = first;
-    for (s, p) in sensors.iter().zip(&placements) {
+    for (s, p) in run.sensors.iter().zip(&run.placements) {
         let mut values = vec![0.0; hist.rows.len()];
         for (_, w) in &p.nodes {
             values.iter_mut().zip(&hist.rows).for_each(|(v, r)| *v += w * r[col]);
@@ -160,108 +141,14 @@ pub fn simulate(
         values.iter_mut().for_each(|v| *v *= 1e-3);
         out.push(SensorHistory { id: s.id.clone(), values });
     }
-    let n = opts.n_modes.min(modal.freq_hz.len());
-    Ok(Simulation {
-        freq_hz: modal.freq_hz[..n].to_vec(),
-        mode_dir: (0..n).map(|k| modal.dominant(k)).collect(),
-        rayleigh,
-        dt_s: input.dt_s,
+    Simulation {
+        freq_hz: run.freq_hz.clone(),
+        mode_dir: run.mode_dir.clone(),
+        rayleigh: run.rayleigh,
+        dt_s: run.input_dt_s,
         sensors: out,
         spring_peaks,
-    })
-}
-
-fn check(input: &BaseInput, opts: &SimOptions) -> Result<(), CeilingError> {
-    let bad = |m: String| Err(CeilingError::Input(m));
-    if !(input.dt_s > 0.0 && input.dt_s.is_finite()) {
-        return bad(format!("input dt_s = {}: expected > 0", input.dt_s));
     }
-    if input.len() < 2 {
-        return bad(format!("input has {} samples: expected at least 2", input.len()));
-    }
-    for (name, c) in [("x", &input.x_m_s2), ("y", &input.y_m_s2)] {
-        if let Some(k) = c.as_ref().and_then(|v| v.iter().position(|a| !a.is_finite())) {
-            return bad(format!("input {name}: sample {k} is not a finite number"));
-        }
-    }
-    if !(opts.damping_ratio >= 0.0 && opts.damping_ratio < 1.0) {
-        return bad(format!("damping_ratio = {}: expected 0 <= ratio < 1", opts.damping_ratio));
-    }
-    if opts.substeps == 0 {
-        return bad("substeps = 0: expected >= 1".into());
-    }
-    Ok(())
-}
-
-fn grid_size(spec: &CeilingSpec) -> (usize, usize) {
-    let s = &spec.structure;
-    ((s.length_x_m / s.module_m).round() as usize, (s.length_y_m / s.module_m).round() as usize)
-}
-
-/// One node recorder per (sensor, node) in placement order.
-fn recorder_specs(sensors: &[Sensor], placements: &[Placement]) -> Vec<RecorderSpec> {
-    let mut out = Vec::new();
-    for (s, p) in sensors.iter().zip(placements) {
-        let response = match s.kind {
-            SensorKind::Acceleration => "accel_abs",
-            SensorKind::Displacement => "disp",
-        };
-        for (k, (node, _)) in p.nodes.iter().enumerate() {
-            out.push(RecorderSpec {
-                name: Some(format!("{}#{k}", s.id)),
-                node: Some(*node),
-                dof: Some(s.direction.dof()),
-                element: None,
-                response: response.into(),
-            });
-        }
-    }
-    out
-}
-
-/// The input in mm/s², one component per given direction.
-fn base_motion(input: &BaseInput) -> BaseMotion {
-    let comp = |dof: u8, v: &Vec<f64>| GroundMotion {
-        dof,
-        dt_s: input.dt_s,
-        accel_mm_s2: v.iter().map(|a| a * 1e3).collect(),
-    };
-    let mut components = Vec::new();
-    if let Some(x) = &input.x_m_s2 {
-        components.push(comp(1, x));
-    }
-    if let Some(y) = &input.y_m_s2 {
-        components.push(comp(2, y));
-    }
-    BaseMotion { components }
-}
-
-/// Deformation and force recorders for every spring of each group; returns
-/// the spring count per group.
-fn spring_recorders(model: &Model, groups: &[String], out: &mut Vec<RecorderSpec>) -> Vec<usize> {
-    groups
-        .iter()
-        .map(|g| {
-            let ids: Vec<u64> = model
-                .springs
-                .iter()
-                .filter(|s| s.group.as_deref() == Some(g.as_str()))
-                .map(|s| s.id)
-                .collect();
-            for id in &ids {
-                for response in ["deformation", "force"] {
-                    out.push(RecorderSpec {
-                        name: Some(format!("{g}#{id}_{response}")),
-                        node: None,
-                        dof: None,
-                        element: Some(*id),
-                        response: response.into(),
-                    });
-                }
-            }
-            ids.len()
-        })
-        .collect()
 }
 
 /// Peak |deformation| and |force| per group from the recorded columns.

@@ -1,0 +1,215 @@
+//! A shaking-table run made ready to integrate: the generated model with
+//! its Rayleigh damping (fitted on the first x and y modes), the modes, the
+//! sensor placements, the recorders (one per sensor node, then the
+//! requested spring groups) and the base motion. [`super::simulate`] runs
+//! it; an exporter can write it as a `ceiling-fe-model` file for another
+//! code to run.
+//!
+//! Units: the model's N, mm, s, t; base motion mm/s².
+
+use super::damping::{rayleigh_on_first_modes, RayleighFit};
+use super::input::BaseInput;
+use super::sensor::{place, Placement, Sensor, SensorKind};
+use super::simulate::{CeilingError, SimOptions};
+use crate::eigen::{modal_analysis, LanczosSettings};
+use crate::generator::{generate, CeilingSpec, Parameters};
+use crate::model::{Damping, Model};
+use crate::transient::spec::RecorderSpec;
+use crate::transient::{BaseMotion, GroundMotion, Plan};
+
+/// Everything a run integrates and reads, before integration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PreparedRun {
+    /// The model with its Rayleigh damping and flagged springs (no analysis block).
+    pub model: Model,
+    /// Lowest frequencies (Hz) of the initial-stiffness model (`n_modes` of them).
+    pub freq_hz: Vec<f64>,
+    /// Direction of each mode's largest effective mass ('x', 'y', 'z').
+    pub mode_dir: Vec<char>,
+    /// The Rayleigh damping used.
+    pub rayleigh: RayleighFit,
+    /// Sensors, as given.
+    pub sensors: Vec<Sensor>,
+    /// Grid nodes and weights of each sensor.
+    pub placements: Vec<Placement>,
+    /// Sensor recorders (one per sensor node, placement order), then spring-group recorders.
+    pub recorders: Vec<RecorderSpec>,
+    /// How many of `recorders` belong to the sensors.
+    pub n_sensor_recorders: usize,
+    /// Spring groups whose peaks are reported, and their spring counts.
+    pub groups: Vec<(String, usize)>,
+    /// Base motion in mm/s², one component per shaken direction (x = DOF 1, y = DOF 2).
+    pub base: BaseMotion,
+    /// Integration step (s).
+    pub dt_s: f64,
+    /// Integration steps.
+    pub n_steps: usize,
+    /// One output row per input sample: every this many steps.
+    pub output_every_n_steps: usize,
+    /// Input sample interval (s).
+    pub input_dt_s: f64,
+}
+
+impl PreparedRun {
+    /// The integration plan (Newmark average acceleration).
+    pub fn plan(&self) -> Plan<'_> {
+        Plan {
+            base: &self.base,
+            dt_s: self.dt_s,
+            n_steps: self.n_steps,
+            gamma: 0.5,
+            beta: 0.25,
+            output_every_n_steps: self.output_every_n_steps,
+            recorders: &self.recorders,
+        }
+    }
+}
+
+/// Generates, damps and instruments one run of `spec` with values `params`.
+pub fn prepare(
+    spec: &CeilingSpec,
+    params: &Parameters,
+    input: &BaseInput,
+    sensors: &[Sensor],
+    opts: &SimOptions,
+) -> Result<PreparedRun, CeilingError> {
+    check(input, opts)?;
+    let mut model = generate(spec, params)?;
+    for sp in model.springs.iter_mut() {
+        if sp.group.as_ref().is_some_and(|g| opts.rayleigh_groups.contains(g)) {
+            sp.rayleigh = true;
+        }
+    }
+    let (_, modal) = modal_analysis(&model, opts.n_modes.max(2), &LanczosSettings::default())?;
+    let rayleigh = rayleigh_on_first_modes(&modal, opts.damping_ratio)
+        .ok_or_else(|| CeilingError::Input("no mode moves mass in x or y".into()))?;
+    model.damping = Some(Damping {
+        kind: "rayleigh".into(),
+        alpha_m_per_s: rayleigh.alpha_m_per_s,
+        beta_k_s: rayleigh.beta_k_s,
+        extra: Default::default(),
+    });
+    let (nx, ny) = grid_size(spec);
+    let placements: Vec<Placement> = sensors
+        .iter()
+        .map(|s| place(s, &model, spec.structure.module_m, nx, ny))
+        .collect::<Result<_, _>>()?;
+    let mut recorders = recorder_specs(sensors, &placements);
+    let n_sensor_recorders = recorders.len();
+    let counts = spring_recorders(&model, &opts.spring_groups, &mut recorders);
+    let n = opts.n_modes.min(modal.freq_hz.len());
+    Ok(PreparedRun {
+        freq_hz: modal.freq_hz[..n].to_vec(),
+        mode_dir: (0..n).map(|k| modal.dominant(k)).collect(),
+        model,
+        rayleigh,
+        sensors: sensors.to_vec(),
+        placements,
+        recorders,
+        n_sensor_recorders,
+        groups: opts.spring_groups.iter().cloned().zip(counts).collect(),
+        base: base_motion(input),
+        dt_s: input.dt_s / opts.substeps as f64,
+        n_steps: (input.len() - 1) * opts.substeps,
+        output_every_n_steps: opts.substeps,
+        input_dt_s: input.dt_s,
+    })
+}
+
+fn check(input: &BaseInput, opts: &SimOptions) -> Result<(), CeilingError> {
+    let bad = |m: String| Err(CeilingError::Input(m));
+    if !(input.dt_s > 0.0 && input.dt_s.is_finite()) {
+        return bad(format!("input dt_s = {}: expected > 0", input.dt_s));
+    }
+    if input.len() < 2 {
+        return bad(format!("input has {} samples: expected at least 2", input.len()));
+    }
+    for (name, c) in [("x", &input.x_m_s2), ("y", &input.y_m_s2)] {
+        if let Some(k) = c.as_ref().and_then(|v| v.iter().position(|a| !a.is_finite())) {
+            return bad(format!("input {name}: sample {k} is not a finite number"));
+        }
+    }
+    if !(opts.damping_ratio >= 0.0 && opts.damping_ratio < 1.0) {
+        return bad(format!("damping_ratio = {}: expected 0 <= ratio < 1", opts.damping_ratio));
+    }
+    if opts.substeps == 0 {
+        return bad("substeps = 0: expected >= 1".into());
+    }
+    Ok(())
+}
+
+fn grid_size(spec: &CeilingSpec) -> (usize, usize) {
+    let s = &spec.structure;
+    ((s.length_x_m / s.module_m).round() as usize, (s.length_y_m / s.module_m).round() as usize)
+}
+
+/// The recorder name of node `k` of a sensor's placement.
+pub fn sensor_recorder_name(sensor_id: &str, k: usize) -> String {
+    format!("{sensor_id}#{k}")
+}
+
+/// One node recorder per (sensor, node) in placement order.
+fn recorder_specs(sensors: &[Sensor], placements: &[Placement]) -> Vec<RecorderSpec> {
+    let mut out = Vec::new();
+    for (s, p) in sensors.iter().zip(placements) {
+        let response = match s.kind {
+            SensorKind::Acceleration => "accel_abs",
+            SensorKind::Displacement => "disp",
+        };
+        for (k, (node, _)) in p.nodes.iter().enumerate() {
+            out.push(RecorderSpec {
+                name: Some(sensor_recorder_name(&s.id, k)),
+                node: Some(*node),
+                dof: Some(s.direction.dof()),
+                element: None,
+                response: response.into(),
+            });
+        }
+    }
+    out
+}
+
+/// The input in mm/s², one component per given direction.
+fn base_motion(input: &BaseInput) -> BaseMotion {
+    let comp = |dof: u8, v: &Vec<f64>| GroundMotion {
+        dof,
+        dt_s: input.dt_s,
+        accel_mm_s2: v.iter().map(|a| a * 1e3).collect(),
+    };
+    let mut components = Vec::new();
+    if let Some(x) = &input.x_m_s2 {
+        components.push(comp(1, x));
+    }
+    if let Some(y) = &input.y_m_s2 {
+        components.push(comp(2, y));
+    }
+    BaseMotion { components }
+}
+
+/// Deformation and force recorders for every spring of each group; returns
+/// the spring count per group.
+fn spring_recorders(model: &Model, groups: &[String], out: &mut Vec<RecorderSpec>) -> Vec<usize> {
+    groups
+        .iter()
+        .map(|g| {
+            let ids: Vec<u64> = model
+                .springs
+                .iter()
+                .filter(|s| s.group.as_deref() == Some(g.as_str()))
+                .map(|s| s.id)
+                .collect();
+            for id in &ids {
+                for response in ["deformation", "force"] {
+                    out.push(RecorderSpec {
+                        name: Some(format!("{g}#{id}_{response}")),
+                        node: None,
+                        dof: None,
+                        element: Some(*id),
+                        response: response.into(),
+                    });
+                }
+            }
+            ids.len()
+        })
+        .collect()
+}
