@@ -231,11 +231,17 @@ pub fn calibrate(
     let start = if base.is_some() { search.coarse_start(&mut cal, &mut report)? } else { None };
     let start = start.or_else(|| cal.best(n_eff).map(|k| cal.points[k].u.clone()));
     if let Some(u) = start {
-        let (mut u, mut gn) = search.levenberg_marquardt(&mut cal, Scale::Fine, u, &mut report)?;
-        for _ in 0..if base.is_some() { SLOPPY_WALKS } else { 0 } {
+        let full = budget.local;
+        let (mut u, mut gn) =
+            search.levenberg_marquardt(&mut cal, Scale::Fine, u, full, &mut report)?;
+        // A valley between an extension's own parameters; one parameter
+        // alone is searched by the local search itself.
+        let walks = if base.is_some() && d >= 2 { SLOPPY_WALKS } else { 0 };
+        for _ in 0..walks {
             let Some(g) = gn.as_ref() else { break };
             let Some(from) = search.sloppy_walk(&mut cal, &u, g, &mut report)? else { break };
-            let (end, g) = search.levenberg_marquardt(&mut cal, Scale::Fine, from, &mut report)?;
+            let (end, g) =
+                search.levenberg_marquardt(&mut cal, Scale::Fine, from, full / 2, &mut report)?;
             let Some(g) = g else { break };
             (u, gn) = (end, Some(g));
         }
@@ -245,7 +251,7 @@ pub fn calibrate(
 }
 
 /// Walks along the least-determined direction after a local search.
-const SLOPPY_WALKS: usize = 2;
+const SLOPPY_WALKS: usize = 1;
 /// Distances (unit cube) probed each way along the least-determined direction.
 const SLOPPY_STEPS: [f64; 4] = [0.03, 0.06, 0.12, 0.24];
 
@@ -291,7 +297,8 @@ impl Search<'_, '_> {
         let mut pick = cal.points[best].u.clone();
         let mut f_pick = cal.objective(n_eff)[best];
         for from in starts {
-            let (end, _) = self.levenberg_marquardt(cal, Scale::Coarse, from, progress)?;
+            let local = self.budget.local;
+            let (end, _) = self.levenberg_marquardt(cal, Scale::Coarse, from, local, progress)?;
             let f = cal.objective(n_eff);
             let at_end = cal.points.iter().position(|p| p.u == end).map_or(f64::INFINITY, |k| f[k]);
             if at_end < f_pick {
@@ -344,16 +351,18 @@ impl Search<'_, '_> {
     /// the time histories (n_c = n_eff) or the windowed misfits (n_c = windows):
     /// forward-difference Jacobians of the residuals (k + 1 FE runs in
     /// parallel), the Gauss–Newton matrix Σ n_c/SSR_c · JᵀJ, steps clamped to
-    /// the unit cube; stops when the budget is spent or a step gains < 0.01 nats.
+    /// the unit cube; stops when `local` FE runs are spent or a step gains
+    /// < 0.01 nats.
     /// Returns the final point and the Gauss–Newton matrix there.
     fn levenberg_marquardt(
         &mut self,
         cal: &mut Calibration,
         scale: Scale,
         start: Vec<f64>,
+        local: usize,
         progress: &mut dyn FnMut(usize),
     ) -> Result<(Vec<f64>, Option<DMatrix<f64>>), ExecutorError> {
-        let (ev, n_eff, budget) = (self.ev, self.n_eff, self.budget);
+        let (ev, n_eff) = (self.ev, self.n_eff);
         let k = cal.priors.len();
         let objective = |p: &Point| match scale {
             Scale::Fine => p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff)),
@@ -371,7 +380,7 @@ impl Search<'_, '_> {
         let ext = cal.free.len() < k;
         let steps: Vec<f64> =
             (0..k).map(|i| if ext && cal.free.contains(&i) { 2e-2 } else { 2e-3 }).collect();
-        while spent + k + 1 <= budget.local {
+        while spent + k + 1 <= local {
             let mut us = vec![u.clone()];
             for i in 0..k {
                 let h = steps[i];
@@ -425,39 +434,35 @@ impl Search<'_, '_> {
             gn = Some(jt_j.clone());
             progress(cal.points.len());
             let mut moved = false;
-            for _ in 0..4 {
-                if spent + 1 > budget.local + k {
-                    break;
-                }
-                let mut a = jt_j.clone();
-                for i in 0..k {
-                    a[(i, i)] *= 1.0 + lambda;
-                    a[(i, i)] += 1e-12;
-                }
-                let Some(delta): Option<DVector<f64>> = a.cholesky().map(|c| c.solve(&(-&jt_r)))
-                else {
-                    break;
-                };
-                let trial: Vec<f64> = u
-                    .iter()
-                    .zip(delta.iter())
-                    .map(|(x, d): (&f64, &f64)| (x + d).clamp(0.0, 1.0))
-                    .collect();
-                let p = evaluate_points(ev, std::slice::from_ref(&trial), self.exec)?.remove(0);
-                spent += 1;
-                let ft = objective(&p);
-                cal.points.push(p);
-                progress(cal.points.len());
-                if ft < f {
-                    let gain = f - ft;
-                    (u, moved) = (trial, true);
-                    lambda = (lambda * 0.3).max(1e-6);
-                    if gain < 0.01 {
-                        return Ok((u, gn));
+            let mut attempt = 0;
+            'tries: while attempt < 4 && spent < local + k {
+                let Some(first) = lm_trial(&u, &jt_j, &jt_r, lambda) else { break };
+                // The next attempt (10 λ) runs beside this one, so that a
+                // second worker is not idle while the first is judged; it
+                // is dropped unseen when the first is taken, so the points
+                // taken are those of trying one after the other.
+                let second = (attempt + 1 < 4 && spent + 2 <= local + k)
+                    .then(|| lm_trial(&u, &jt_j, &jt_r, lambda * 10.0))
+                    .flatten();
+                let trials: Vec<Vec<f64>> = std::iter::once(first).chain(second).collect();
+                let points = evaluate_points(ev, &trials, self.exec)?;
+                for (trial, p) in trials.into_iter().zip(points) {
+                    spent += 1;
+                    attempt += 1;
+                    let ft = objective(&p);
+                    cal.points.push(p);
+                    progress(cal.points.len());
+                    if ft < f {
+                        let gain = f - ft;
+                        (u, moved) = (trial, true);
+                        lambda = (lambda * 0.3).max(1e-6);
+                        if gain < 0.01 {
+                            return Ok((u, gn));
+                        }
+                        break 'tries;
                     }
-                    break;
+                    lambda *= 10.0;
                 }
-                lambda *= 10.0;
             }
             if !moved {
                 break;
@@ -465,6 +470,20 @@ impl Search<'_, '_> {
         }
         Ok((u, gn))
     }
+}
+
+/// The Levenberg–Marquardt step from `u` with damping `lambda`:
+/// (JᵀJ + λ diag JᵀJ) δ = −Jᵀr, clamped to the unit cube (None when the
+/// damped matrix is not positive definite).
+fn lm_trial(u: &[f64], jt_j: &DMatrix<f64>, jt_r: &DVector<f64>, lambda: f64) -> Option<Vec<f64>> {
+    let k = u.len();
+    let mut a = jt_j.clone();
+    for i in 0..k {
+        a[(i, i)] *= 1.0 + lambda;
+        a[(i, i)] += 1e-12;
+    }
+    let delta = a.cholesky()?.solve(&(-jt_r));
+    Some(u.iter().zip(delta.iter()).map(|(x, d)| (x + d).clamp(0.0, 1.0)).collect())
 }
 
 /// The least-determined direction of the `free` parameters when the others
