@@ -52,6 +52,14 @@ pub struct Point {
     pub coarse: f64,
 }
 
+impl Point {
+    /// −log L of the time histories under weights `n_eff` (+∞ when the
+    /// simulation failed).
+    pub fn neg_log_lik(&self, n_eff: &[f64]) -> f64 {
+        self.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff))
+    }
+}
+
 /// All FE evaluations of one variant.
 #[derive(Debug, Clone)]
 pub struct Calibration {
@@ -78,10 +86,7 @@ impl Calibration {
 
     /// −log L of each point under weights `n_eff` (failed: +∞).
     pub fn objective(&self, n_eff: &[f64]) -> Vec<f64> {
-        self.points
-            .iter()
-            .map(|p| p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff)))
-            .collect()
+        self.points.iter().map(|p| p.neg_log_lik(n_eff)).collect()
     }
 
     /// Index of the best evaluated point under `n_eff`.
@@ -110,10 +115,16 @@ impl Calibration {
         if y.len() < d + 2 {
             return None;
         }
-        let scaling = InputScaling { lo: vec![0.0; d], hi: vec![1.0; d] };
-        let set = GpSettings { restarts: 2, threads: 1, ..GpSettings::default() };
-        fit(&x, d, &y, Some(scaling), &set).ok()
+        unit_cube_gp(&x, d, &y)
     }
+}
+
+/// A GP through `y` at points `x` ((n, d) row-major) of the unit cube, two
+/// optimiser restarts on one thread (None when the fit fails).
+pub fn unit_cube_gp(x: &[f64], d: usize, y: &[f64]) -> Option<Gp> {
+    let scaling = InputScaling { lo: vec![0.0; d], hi: vec![1.0; d] };
+    let set = GpSettings { restarts: 2, threads: 1, ..GpSettings::default() };
+    fit(x, d, y, Some(scaling), &set).ok()
 }
 
 /// Residual vectors per channel of one evaluation.
@@ -327,17 +338,17 @@ impl Search<'_, '_> {
             .flat_map(|t| [*t, -*t])
             .map(|t| u.iter().zip(v.iter()).map(|(x, d)| (x + t * d).clamp(0.0, 1.0)).collect())
             .collect();
+        let n_eff = self.n_eff;
         let f_u = cal
             .points
             .iter()
             .rev()
             .find(|p| p.u == u)
-            .and_then(|p| p.fit.as_ref().ok().map(|ch| neg_log_lik(ch, self.n_eff)))
-            .unwrap_or(f64::INFINITY);
+            .map_or(f64::INFINITY, |p| p.neg_log_lik(n_eff));
         let points = evaluate_points(self.ev, &probes, self.exec)?;
         let best = points
             .iter()
-            .filter_map(|p| p.fit.as_ref().ok().map(|ch| (neg_log_lik(ch, self.n_eff), &p.u)))
+            .map(|p| (p.neg_log_lik(n_eff), &p.u))
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .filter(|(f, _)| *f < f_u - 0.01)
             .map(|(_, u)| u.clone());
@@ -365,7 +376,7 @@ impl Search<'_, '_> {
         let (ev, n_eff) = (self.ev, self.n_eff);
         let k = cal.priors.len();
         let objective = |p: &Point| match scale {
-            Scale::Fine => p.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff)),
+            Scale::Fine => p.neg_log_lik(n_eff),
             Scale::Coarse => p.coarse,
         };
         let pick = |r: &(Residuals, Residuals)| match scale {
@@ -380,7 +391,7 @@ impl Search<'_, '_> {
         let ext = cal.free.len() < k;
         let steps: Vec<f64> =
             (0..k).map(|i| if ext && cal.free.contains(&i) { 2e-2 } else { 2e-3 }).collect();
-        while spent + k + 1 <= local {
+        while spent + k < local {
             let mut us = vec![u.clone()];
             for i in 0..k {
                 let h = steps[i];

@@ -9,14 +9,14 @@
 //! Laplace spread, so that the box is respected and q starts near its
 //! answer. No FE run is made here.
 
-use super::calibrate::Calibration;
+use super::calibrate::{unit_cube_gp, Calibration};
 use super::mdl::gn_sd;
 use nalgebra::DMatrix;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use stats::bbvi::{Bbvi, BbviSettings, FamilyKind};
 use stats::calibration::LogDensity;
-use stats::gp::{fit, Gp, GpSettings, InputScaling};
+use stats::gp::Gp;
 
 /// FE-evaluated points within this many nats of the best train the GP
 /// correction to the quadratic.
@@ -184,11 +184,9 @@ fn gp_correction(
     if y.len() < k + 3 {
         return (None, 0);
     }
-    let scaling = InputScaling { lo: vec![0.0; k], hi: vec![1.0; k] };
-    let set = GpSettings { restarts: 2, threads: 1, ..GpSettings::default() };
-    match fit(&x, k, &y, Some(scaling), &set) {
-        Ok(gp) => (Some(gp), y.len()),
-        Err(_) => (None, 0),
+    match unit_cube_gp(&x, k, &y) {
+        Some(gp) => (Some(gp), y.len()),
+        None => (None, 0),
     }
 }
 
