@@ -144,28 +144,7 @@ fn transient_stanza(run_id: &str, prep: &PreparedRun) -> Map<String, Value> {
     m.insert("dt".into(), json!(prep.dt_s));
     m.insert("n_steps".into(), json!(prep.n_steps));
     m.insert("output_every_n_steps".into(), json!(prep.output_every_n_steps));
-    let recs: Vec<Value> = prep
-        .recorders
-        .iter()
-        .map(|r| {
-            let mut o = Map::new();
-            if let Some(n) = &r.name {
-                o.insert("name".into(), json!(n));
-            }
-            if let Some(n) = r.node {
-                o.insert("node".into(), json!(n));
-            }
-            if let Some(d) = r.dof {
-                o.insert("dof".into(), json!(d));
-            }
-            if let Some(e) = r.element {
-                o.insert("element".into(), json!(e));
-            }
-            o.insert("response".into(), json!(r.response));
-            Value::Object(o)
-        })
-        .collect();
-    m.insert("recorders".into(), Value::Array(recs));
+    m.insert("recorders".into(), json!(prep.recorders));
     m
 }
 
@@ -204,7 +183,7 @@ pub fn sidecar(
         model_sha256: sha256_hex(model_text.as_bytes()),
         history_csv: format!("{run_id}.history.csv"),
         dt_s: prep.input_dt_s,
-        n_rows: prep.n_steps / prep.output_every_n_steps.max(1) + 1,
+        n_rows: prep.output_rows(),
         sensors: recipes,
     }
 }

@@ -165,7 +165,7 @@ pub fn read_run_history(
         }
         rows.push(row);
     }
-    let expected = prep.n_steps / prep.output_every_n_steps.max(1) + 1;
+    let expected = prep.output_rows();
     if rows.len() != expected {
         return Err(HistoryError::Rows {
             path,

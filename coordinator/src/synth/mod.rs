@@ -343,9 +343,8 @@ fn run_histories(
             let hist = fe::ceiling::run_prepared(&prep, &mut |_| {}).map_err(fail)?;
             if let Some(dir) = export {
                 export::write_ceilfarm_history(dir, run_id, &prep, &hist)?;
-                match (&spec.modal, first) {
-                    (Some(m), true) => export::write_modal(dir, run_id, m.modes, &prep)?,
-                    _ => {}
+                if let (Some(m), true) = (&spec.modal, first) {
+                    export::write_modal(dir, run_id, m.modes, &prep)?;
                 }
             }
             hist

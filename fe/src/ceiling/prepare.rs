@@ -51,6 +51,11 @@ pub struct PreparedRun {
 }
 
 impl PreparedRun {
+    /// Rows of the recorded history: one per input sample, t = 0 included.
+    pub fn output_rows(&self) -> usize {
+        self.n_steps / self.output_every_n_steps.max(1) + 1
+    }
+
     /// The integration plan (Newmark average acceleration).
     pub fn plan(&self) -> Plan<'_> {
         Plan {

@@ -3,7 +3,7 @@
 //!
 //! Units: time s, acceleration mm/s² (the record CSV values times `scale`).
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use super::TransientError;
@@ -59,20 +59,21 @@ pub enum IntegratorKind {
     Newmark,
 }
 
-/// One recorder as the file writes it.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+/// One recorder as the file writes it (absent fields are left out when
+/// written).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 pub struct RecorderSpec {
     /// Column name (generated when absent).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// Node id (node recorders).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub node: Option<u64>,
     /// Global DOF 1..6 (node recorders).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dof: Option<u8>,
     /// Spring id (element recorders).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub element: Option<u64>,
     /// `disp`, `vel`, `accel_abs`, `deformation` or `force`.
     pub response: String,
