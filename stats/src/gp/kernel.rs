@@ -6,6 +6,7 @@
 //! Williams, *Gaussian Processes for Machine Learning*, 2006, ch. 4).
 //! Hyperparameters live in log space: θ = [ln l_1..ln l_d, ln s², (ln α)].
 
+use super::exp_kernel::exp_nonpositive;
 use serde::{Deserialize, Serialize};
 
 /// Which stationary covariance family.
@@ -118,32 +119,48 @@ impl Kernel {
     }
 
     /// (g(u), −2 g'(u), ∂g/∂ln α) for squared scaled distance u.
+    #[inline(always)]
     pub fn shape(&self, u: f64) -> (f64, f64, f64) {
         match self.kind {
-            KernelKind::SquaredExponential => {
-                let g = (-0.5 * u).exp();
-                (g, g, 0.0)
-            }
-            KernelKind::Matern32 => {
-                let r = (3.0 * u).sqrt();
-                let e = (-r).exp();
-                ((1.0 + r) * e, 3.0 * e, 0.0)
-            }
-            KernelKind::Matern52 => {
-                let r = (5.0 * u).sqrt();
-                let e = (-r).exp();
-                ((1.0 + r + 5.0 * u / 3.0) * e, 5.0 / 3.0 * (1.0 + r) * e, 0.0)
-            }
-            KernelKind::RationalQuadratic => {
-                let a = self.alpha;
-                let b = 1.0 + u / (2.0 * a);
-                let g = b.powf(-a);
-                let h = g / b;
-                let dg_dlna = a * g * (-b.ln() + u / (2.0 * a * b));
-                (g, h, dg_dlna)
-            }
+            KernelKind::SquaredExponential => squared_exponential(u),
+            KernelKind::Matern32 => matern32(u),
+            KernelKind::Matern52 => matern52(u),
+            KernelKind::RationalQuadratic => rational_quadratic(self.alpha, u),
         }
     }
+}
+
+/// Squared-exponential shape: (g, −2g', 0) at squared scaled distance u.
+#[inline(always)]
+pub fn squared_exponential(u: f64) -> (f64, f64, f64) {
+    let g = exp_nonpositive(-0.5 * u);
+    (g, g, 0.0)
+}
+
+/// Matérn 3/2 shape: (g, −2g', 0) at squared scaled distance u.
+#[inline(always)]
+pub fn matern32(u: f64) -> (f64, f64, f64) {
+    let r = (3.0 * u).sqrt();
+    let e = exp_nonpositive(-r);
+    ((1.0 + r) * e, 3.0 * e, 0.0)
+}
+
+/// Matérn 5/2 shape: (g, −2g', 0) at squared scaled distance u.
+#[inline(always)]
+pub fn matern52(u: f64) -> (f64, f64, f64) {
+    let r = (5.0 * u).sqrt();
+    let e = exp_nonpositive(-r);
+    ((1.0 + r + 5.0 * u / 3.0) * e, 5.0 / 3.0 * (1.0 + r) * e, 0.0)
+}
+
+/// Rational-quadratic shape of exponent `a`: (g, −2g', ∂g/∂ln a).
+#[inline(always)]
+pub fn rational_quadratic(a: f64, u: f64) -> (f64, f64, f64) {
+    let b = 1.0 + u / (2.0 * a);
+    let g = b.powf(-a);
+    let h = g / b;
+    let dg_dlna = a * g * (-b.ln() + u / (2.0 * a * b));
+    (g, h, dg_dlna)
 }
 
 #[cfg(test)]

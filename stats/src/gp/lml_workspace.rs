@@ -10,7 +10,7 @@
 //! −s² h t_k (∂w_ik/∂λ_k − ∂w_jk/∂λ_k) / l_k² (h = −2 g'(u)).
 
 use super::error::GpError;
-use super::kernel::{Kernel, KernelKind};
+use super::kernel::{self, Kernel, KernelKind};
 use super::likelihood::JITTERS;
 use super::warp::InputWarp;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -97,15 +97,21 @@ impl LmlWorkspace {
         }
     }
 
-    /// Lower triangles of K, h and ∂g/∂ln α.
+    /// Lower triangles of K, h and ∂g/∂ln α (compiled for the widest SIMD
+    /// the CPU offers, chosen at run time).
     fn fill_pairs(&mut self, kernel: &Kernel, x: &Columns, noise_var: f64) {
+        pulp::Arch::new().dispatch(FillPairs { ws: self, kernel, x, noise_var })
+    }
+
+    #[inline(always)]
+    fn fill_pairs_body(&mut self, kernel: &Kernel, x: &Columns, noise_var: f64) {
         let n = x.n;
         let s2 = kernel.variance;
         let (keep_h, keep_da) = (self.h.nrows() == n, self.da.nrows() == n);
         let mut u = vec![0.0; n];
         for j in 0..n {
             let u = &mut u[j + 1..];
-            u.iter_mut().for_each(|v| *v = 0.0);
+            u.fill(0.0);
             for (k, l) in kernel.lengths.iter().enumerate() {
                 let (xj, inv_l) = (x.col(k)[j], 1.0 / l);
                 for (v, xi) in u.iter_mut().zip(&x.col(k)[j + 1..]) {
@@ -114,15 +120,18 @@ impl LmlWorkspace {
                 }
             }
             self.k[(j, j)] = s2 + noise_var;
-            for (r, v) in u.iter().enumerate() {
-                let (g, h, da) = kernel.shape(*v);
-                self.k[(j + 1 + r, j)] = s2 * g;
-                if keep_h {
-                    self.h[(j + 1 + r, j)] = h;
+            let k_j = &mut lower_from_mut(&mut self.k, j)[1..];
+            let h_j = keep_h.then(|| &mut lower_from_mut(&mut self.h, j)[1..]);
+            let da_j = keep_da.then(|| &mut lower_from_mut(&mut self.da, j)[1..]);
+            match kernel.kind {
+                KernelKind::SquaredExponential => {
+                    shape_column(u, s2, k_j, h_j, da_j, kernel::squared_exponential)
                 }
-                if keep_da {
-                    self.da[(j + 1 + r, j)] = da;
-                }
+                KernelKind::Matern32 => shape_column(u, s2, k_j, h_j, da_j, kernel::matern32),
+                KernelKind::Matern52 => shape_column(u, s2, k_j, h_j, da_j, kernel::matern52),
+                KernelKind::RationalQuadratic => shape_column(u, s2, k_j, h_j, da_j, |v| {
+                    kernel::rational_quadratic(kernel.alpha, v)
+                }),
             }
         }
     }
@@ -184,8 +193,21 @@ impl LmlWorkspace {
     }
 
     /// Adds ½ tr(W ∂K/∂θ) over the off-diagonal pairs to `grad` for the
-    /// length scales, s², α and the warp exponents; returns tr W.
+    /// length scales, s², α and the warp exponents; returns tr W (compiled
+    /// for the widest SIMD the CPU offers, chosen at run time).
     fn accumulate_gradient(
+        &self,
+        kernel: &Kernel,
+        x: &Columns,
+        slots: &[Option<usize>],
+        alphas: &[Vec<f64>],
+        grad: &mut [f64],
+    ) -> f64 {
+        pulp::Arch::new().dispatch(Gradient { ws: self, kernel, x, slots, alphas, grad })
+    }
+
+    #[inline(always)]
+    fn gradient_body(
         &self,
         kernel: &Kernel,
         x: &Columns,
@@ -200,34 +222,114 @@ impl LmlWorkspace {
         let mut trace_w = 0.0;
         for j in 0..n {
             trace_w += alphas.iter().map(|a| a[j] * a[j]).sum::<f64>() - mo * self.kinv[(j, j)];
+            let m = n - j - 1;
             let (w, wh) = (&mut w[j + 1..], &mut wh[j + 1..]);
-            let (kinv_j, k_j) = (lower_from(&self.kinv, j), lower_from(&self.k, j));
-            for (r, wv) in w.iter_mut().enumerate() {
-                let aa: f64 = alphas.iter().map(|a| a[j + 1 + r] * a[j]).sum();
-                *wv = aa - mo * kinv_j[r + 1];
+            let kinv_j = &lower_from(&self.kinv, j)[1..];
+            let k_j = &lower_from(&self.k, j)[1..];
+            for (wv, ki) in w.iter_mut().zip(kinv_j) {
+                *wv = -mo * ki;
+            }
+            for a in alphas {
+                let aj = a[j];
+                for (wv, ai) in w.iter_mut().zip(&a[j + 1..]) {
+                    *wv += ai * aj;
+                }
             }
             // s² h; the squared exponential's h is g = K / s² off the diagonal.
             if self.h.nrows() == n {
-                let h_j = lower_from(&self.h, j);
-                wh.iter_mut().zip(w.iter()).zip(&h_j[1..]).for_each(|((o, a), h)| *o = a * s2 * h);
+                let h_j = &lower_from(&self.h, j)[1..];
+                wh.iter_mut().zip(w.iter()).zip(h_j).for_each(|((o, a), h)| *o = a * s2 * h);
             } else {
-                wh.iter_mut().zip(w.iter()).zip(&k_j[1..]).for_each(|((o, a), k)| *o = a * k);
+                wh.iter_mut().zip(w.iter()).zip(k_j).for_each(|((o, a), k)| *o = a * k);
             }
-            grad[d] += lanes(w.len(), |i| w[i] * k_j[i + 1]);
+            let (w, wh): (&[f64], &[f64]) = (&w[..m], &wh[..m]);
+            grad[d] += lanes(m, |i| w[i] * k_j[..m][i]);
             if self.da.nrows() == n {
-                let da_j = &lower_from(&self.da, j)[1..];
-                grad[d + 1] += s2 * lanes(w.len(), |i| w[i] * da_j[i]);
+                let da_j = &lower_from(&self.da, j)[1..][..m];
+                grad[d + 1] += s2 * lanes(m, |i| w[i] * da_j[i]);
             }
             for (k, il2) in inv_l2.iter().enumerate() {
-                let (xk, xj) = (&x.col(k)[j + 1..], x.col(k)[j]);
-                grad[k] += il2 * lanes(wh.len(), |i| wh[i] * (xk[i] - xj) * (xk[i] - xj));
-                if let Some(m) = slots[k] {
-                    let (dk, dj) = (&x.dcol(k)[j + 1..], x.dcol(k)[j]);
-                    grad[m] -= il2 * lanes(wh.len(), |i| wh[i] * (xk[i] - xj) * (dk[i] - dj));
+                let (xk, xj) = (&x.col(k)[j + 1..][..m], x.col(k)[j]);
+                grad[k] += il2 * lanes(m, |i| wh[i] * (xk[i] - xj) * (xk[i] - xj));
+                if let Some(s) = slots[k] {
+                    let (dk, dj) = (&x.dcol(k)[j + 1..][..m], x.dcol(k)[j]);
+                    grad[s] -= il2 * lanes(m, |i| wh[i] * (xk[i] - xj) * (dk[i] - dj));
                 }
             }
         }
         trace_w
+    }
+}
+
+/// One column below the diagonal: K = s² g(u), and h and ∂g/∂ln α where
+/// kept, with the kernel's shape function `f` (one loop per kernel family,
+/// so that it vectorises).
+#[inline(always)]
+fn shape_column(
+    u: &[f64],
+    s2: f64,
+    k: &mut [f64],
+    h: Option<&mut [f64]>,
+    da: Option<&mut [f64]>,
+    f: impl Fn(f64) -> (f64, f64, f64),
+) {
+    match (h, da) {
+        (None, _) => {
+            for (k, v) in k.iter_mut().zip(u) {
+                *k = s2 * f(*v).0;
+            }
+        }
+        (Some(h), None) => {
+            for ((k, h), v) in k.iter_mut().zip(h.iter_mut()).zip(u) {
+                let (g, hv, _) = f(*v);
+                (*k, *h) = (s2 * g, hv);
+            }
+        }
+        (Some(h), Some(da)) => {
+            for (((k, h), da), v) in k.iter_mut().zip(h.iter_mut()).zip(da.iter_mut()).zip(u) {
+                (*k, *h, *da) = {
+                    let (g, hv, dv) = f(*v);
+                    (s2 * g, hv, dv)
+                };
+            }
+        }
+    }
+}
+
+/// [`LmlWorkspace::fill_pairs`] as a SIMD-dispatched operation (a closure
+/// would not be inlined into the feature-enabled function).
+struct FillPairs<'a> {
+    ws: &'a mut LmlWorkspace,
+    kernel: &'a Kernel,
+    x: &'a Columns,
+    noise_var: f64,
+}
+
+impl pulp::WithSimd for FillPairs<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) {
+        self.ws.fill_pairs_body(self.kernel, self.x, self.noise_var)
+    }
+}
+
+/// [`LmlWorkspace::accumulate_gradient`] as a SIMD-dispatched operation.
+struct Gradient<'a> {
+    ws: &'a LmlWorkspace,
+    kernel: &'a Kernel,
+    x: &'a Columns,
+    slots: &'a [Option<usize>],
+    alphas: &'a [Vec<f64>],
+    grad: &'a mut [f64],
+}
+
+impl pulp::WithSimd for Gradient<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) -> f64 {
+        self.ws.gradient_body(self.kernel, self.x, self.slots, self.alphas, self.grad)
     }
 }
 
@@ -248,9 +350,17 @@ fn lanes(n: usize, f: impl Fn(usize) -> f64) -> f64 {
 }
 
 /// Column `j` of `m` from the diagonal down.
+#[inline(always)]
 fn lower_from(m: &Mat<f64>, j: usize) -> &[f64] {
     let col = m.col(j).try_as_col_major().expect("faer columns are contiguous");
     &col.as_slice()[j..]
+}
+
+/// Column `j` of `m` from the diagonal down, mutable.
+#[inline(always)]
+fn lower_from_mut(m: &mut Mat<f64>, j: usize) -> &mut [f64] {
+    let col = m.col_mut(j).try_as_col_major_mut().expect("faer columns are contiguous");
+    &mut col.as_slice_mut()[j..]
 }
 
 /// θ index of each input's warp exponent (None: not warped).
@@ -282,10 +392,12 @@ impl Columns {
         Columns { n, x: t(xw), dw: t(dw) }
     }
 
+    #[inline(always)]
     fn col(&self, k: usize) -> &[f64] {
         &self.x[k * self.n..(k + 1) * self.n]
     }
 
+    #[inline(always)]
     fn dcol(&self, k: usize) -> &[f64] {
         &self.dw[k * self.n..(k + 1) * self.n]
     }

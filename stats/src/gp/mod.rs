@@ -20,6 +20,7 @@
 //! ```
 
 pub mod error;
+pub mod exp_kernel;
 pub mod fit;
 pub mod kernel;
 pub mod lbfgs;
