@@ -4,7 +4,7 @@
 
 use super::error::GpError;
 use super::kernel::{Kernel, KernelKind};
-use super::lbfgs::{minimise, LbfgsResult, LbfgsSettings};
+use super::lbfgs::{minimise, resume, LbfgsResult, LbfgsSettings};
 use super::likelihood::{factor, lml_from_factor};
 use super::lml_workspace::LmlWorkspace;
 use super::mean::{MeanKind, Trend};
@@ -253,23 +253,25 @@ fn optimise(
     let nw = ratios.iter().filter(|r| r.is_some()).count();
     let starts = set.starts(d, nw);
     let problem = Problem { xs, d, ys, ratios, set, bounds: set.log_bounds(d, nw) };
+    let fresh: Vec<Job> = starts.iter().map(|x| Job::Start(x.clone())).collect();
     let mut results = if starts.len() > SURVIVORS {
         let probe = LbfgsSettings { max_iter: PROBE_ITERATIONS, ..set.lbfgs };
-        let first = problem.run(&starts, &probe);
+        let mut first = problem.run(&fresh, &probe);
         let mut order: Vec<usize> = (0..first.len()).filter(|i| first[*i].is_some()).collect();
         order.sort_by(|a, b| f_of(&first[*a]).total_cmp(&f_of(&first[*b])));
         order.truncate(SURVIVORS);
-        let from: Vec<Vec<f64>> =
-            order.iter().filter_map(|i| first[*i].as_ref().map(|r| r.x.clone())).collect();
-        let second = problem.run(&from, &set.lbfgs);
-        let mut merged = first;
-        for (i, r) in order.into_iter().zip(second) {
-            let spent = merged[i].as_ref().map_or(0, |p| p.evaluations);
-            merged[i] = r.map(|r| LbfgsResult { evaluations: r.evaluations + spent, ..r });
+        let from: Vec<Job> =
+            order.iter().filter_map(|i| first[*i].clone().map(Job::Resume)).collect();
+        let rest = LbfgsSettings {
+            max_iter: set.lbfgs.max_iter.saturating_sub(PROBE_ITERATIONS),
+            ..set.lbfgs
+        };
+        for (i, r) in order.into_iter().zip(problem.run(&from, &rest)) {
+            first[i] = r;
         }
-        merged
+        first
     } else {
-        problem.run(&starts, &set.lbfgs)
+        problem.run(&fresh, &set.lbfgs)
     };
     let evaluations = results.iter().flatten().map(|r| r.evaluations).sum();
     let lmls: Vec<Option<f64>> = results.iter().map(|r| r.as_ref().map(|r| -r.f)).collect();
@@ -289,6 +291,13 @@ fn optimise(
     Ok((r.x, report))
 }
 
+/// One optimiser run: from a start, or on from where a run left off.
+#[derive(Clone)]
+enum Job {
+    Start(Vec<f64>),
+    Resume(LbfgsResult),
+}
+
 /// The minimised value of a start (+∞ when it failed).
 fn f_of(r: &Option<LbfgsResult>) -> f64 {
     r.as_ref().map_or(f64::INFINITY, |r| r.f)
@@ -305,9 +314,9 @@ struct Problem<'a> {
 }
 
 impl Problem<'_> {
-    /// Minimises from every start on the configured threads (results in
-    /// start order; None where the LML is undefined at the start).
-    fn run(&self, starts: &[Vec<f64>], lbfgs: &LbfgsSettings) -> Vec<Option<LbfgsResult>> {
+    /// Runs every job on the configured threads (results in job order;
+    /// None where the LML is undefined at the start).
+    fn run(&self, starts: &[Job], lbfgs: &LbfgsSettings) -> Vec<Option<LbfgsResult>> {
         let refs: Vec<&[f64]> = self.ys.iter().map(|y| y.as_slice()).collect();
         let next = AtomicUsize::new(0);
         let results = Mutex::new(Vec::new());
@@ -331,7 +340,10 @@ impl Problem<'_> {
                             .ok()
                             .map(|(v, g)| (-v, g.into_iter().map(|x| -x).collect()))
                     };
-                    let r = minimise(obj, &starts[i], lo, hi, lbfgs);
+                    let r = match &starts[i] {
+                        Job::Start(x0) => minimise(obj, x0, lo, hi, lbfgs),
+                        Job::Resume(from) => Some(resume(obj, from.clone(), lo, hi, lbfgs)),
+                    };
                     results.lock().expect("results lock").push((i, r));
                 });
             }

@@ -38,6 +38,18 @@ pub struct LbfgsResult {
     pub iterations: usize,
     /// Objective evaluations.
     pub evaluations: usize,
+    /// Where the run left off, for [`resume`].
+    pub state: LbfgsState,
+}
+
+/// The optimiser's state at its last point: gradient and correction pairs
+/// (s, y), so that a stopped run can go on without a cold restart.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct LbfgsState {
+    /// Gradient at the result's x.
+    pub grad: Vec<f64>,
+    /// Stored correction pairs, oldest first.
+    pub memory: Vec<(Vec<f64>, Vec<f64>)>,
 }
 
 /// Evaluations one line search may spend.
@@ -116,9 +128,42 @@ where
 {
     let mut x = x0.to_vec();
     project(&mut x, lo, hi);
-    let (mut fx, mut g) = f(&x)?;
-    let mut evaluations = 1;
-    let mut mem: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
+    let (fx, grad) = f(&x)?;
+    let start = LbfgsResult {
+        x,
+        f: fx,
+        iterations: 0,
+        evaluations: 1,
+        state: LbfgsState { grad, memory: Vec::new() },
+    };
+    Some(iterate(f, start, lo, hi, set))
+}
+
+/// Go on from a previous result (its point, gradient and correction
+/// pairs) under new settings; iterations and evaluations add up.
+pub fn resume<F>(
+    f: F,
+    from: LbfgsResult,
+    lo: &[f64],
+    hi: &[f64],
+    set: &LbfgsSettings,
+) -> LbfgsResult
+where
+    F: FnMut(&[f64]) -> Option<(f64, Vec<f64>)>,
+{
+    let done = from.iterations;
+    let mut r = iterate(f, LbfgsResult { iterations: 0, ..from }, lo, hi, set);
+    r.iterations += done;
+    r
+}
+
+/// L-BFGS iterations from `r` until a stopping rule or `set.max_iter`.
+fn iterate<F>(mut f: F, r: LbfgsResult, lo: &[f64], hi: &[f64], set: &LbfgsSettings) -> LbfgsResult
+where
+    F: FnMut(&[f64]) -> Option<(f64, Vec<f64>)>,
+{
+    let LbfgsResult { mut x, f: mut fx, mut evaluations, state, .. } = r;
+    let LbfgsState { grad: mut g, memory: mut mem } = state;
     let mut iterations = 0;
     while iterations < set.max_iter {
         iterations += 1;
@@ -171,7 +216,7 @@ where
             break;
         }
     }
-    Some(LbfgsResult { x, f: fx, iterations, evaluations })
+    LbfgsResult { x, f: fx, iterations, evaluations, state: LbfgsState { grad: g, memory: mem } }
 }
 
 #[cfg(test)]
@@ -190,6 +235,19 @@ mod tests {
         let set = LbfgsSettings { max_iter: 500, ftol: 1e-14, gtol: 1e-8, ..Default::default() };
         let r = minimise(rosenbrock, &[-1.2, 1.0], &[-2.0, -2.0], &[2.0, 2.0], &set).unwrap();
         assert!((r.x[0] - 1.0).abs() < 1e-4 && (r.x[1] - 1.0).abs() < 1e-4, "{r:?}");
+    }
+
+    #[test]
+    fn resumed_run_follows_the_uninterrupted_one() {
+        let (lo, hi) = ([-2.0, -2.0], [2.0, 2.0]);
+        let set =
+            |max_iter| LbfgsSettings { max_iter, ftol: 1e-14, gtol: 1e-8, ..Default::default() };
+        let whole = minimise(rosenbrock, &[-1.2, 1.0], &lo, &hi, &set(40)).unwrap();
+        let first = minimise(rosenbrock, &[-1.2, 1.0], &lo, &hi, &set(12)).unwrap();
+        assert_eq!(first.iterations, 12, "the first leg must stop on its limit");
+        let second = resume(rosenbrock, first, &lo, &hi, &set(28));
+        assert_eq!((second.x, second.f), (whole.x, whole.f));
+        assert_eq!((second.iterations, second.evaluations), (whole.iterations, whole.evaluations));
     }
 
     #[test]
