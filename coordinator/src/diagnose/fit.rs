@@ -28,6 +28,9 @@ pub struct ChannelFit {
     pub rms_meas: f64,
     /// Whether the run shook the sensor's direction.
     pub excited: bool,
+    /// Nugget estimate of the sensor-noise variance in the residual
+    /// ([`super::noise_floor::nugget_variance`]; 0 when too short).
+    pub noise_var: f64,
 }
 
 impl ChannelFit {
@@ -233,6 +236,7 @@ fn channel_fit(run: &RunData, id: &str, m: &[f64], off: f64, r: &[f64]) -> Chann
         rho,
         rms_meas: (mm / n.max(1) as f64).sqrt(),
         excited: true,
+        noise_var: super::noise_floor::nugget_variance(r).unwrap_or(0.0),
     }
 }
 
@@ -262,10 +266,32 @@ pub fn neg_log_lik(ch: &[ChannelFit], n_eff: &[f64]) -> f64 {
 /// Mean normalised error over the channels in the shaken directions (all
 /// channels when none is).
 pub fn mean_nrmse(ch: &[ChannelFit]) -> f64 {
-    let shaken: Vec<&ChannelFit> = ch.iter().filter(|c| c.excited).collect();
-    let pick: Vec<&ChannelFit> = if shaken.is_empty() { ch.iter().collect() } else { shaken };
+    let raw: Vec<f64> = ch.iter().map(ChannelFit::nrmse).collect();
+    mean_over_shaken(ch, &raw)
+}
+
+/// Mean over the shaken channels (all when none is) of the NRMSE in excess
+/// of each channel's noise variance `noise_var[c]` (see [`super::noise_floor`]).
+pub fn mean_excess_nrmse(ch: &[ChannelFit], noise_var: &[f64]) -> f64 {
+    let e: Vec<f64> = ch
+        .iter()
+        .zip(noise_var)
+        .map(|(c, v)| {
+            let mse = c.ssr / c.n.max(1) as f64;
+            super::noise_floor::excess_nrmse(mse, c.rms_meas * c.rms_meas, *v)
+        })
+        .collect();
+    mean_over_shaken(ch, &e)
+}
+
+/// Mean of per-channel `values` over the shaken channels, or over all
+/// when no channel is shaken (NaN when there are none).
+fn mean_over_shaken(ch: &[ChannelFit], values: &[f64]) -> f64 {
+    let shaken = ch.iter().any(|c| c.excited);
+    let pick: Vec<f64> =
+        ch.iter().zip(values).filter(|(c, _)| c.excited || !shaken).map(|(_, v)| *v).collect();
     if pick.is_empty() {
         return f64::NAN;
     }
-    pick.iter().map(|c| c.nrmse()).sum::<f64>() / pick.len() as f64
+    pick.iter().sum::<f64>() / pick.len() as f64
 }

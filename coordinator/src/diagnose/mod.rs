@@ -15,6 +15,7 @@ pub mod filter;
 pub mod fit;
 pub mod loop_damping;
 pub mod mdl;
+pub mod noise_floor;
 pub mod pipeline;
 pub mod posterior;
 pub mod report;

@@ -6,7 +6,9 @@
 use super::calibrate::{calibrate, Budget, Calibration};
 use super::cause::Cause;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
-use super::fit::{effective_sizes, mean_nrmse, Evaluation, Simulated};
+use super::fit::{
+    effective_sizes, mean_excess_nrmse, mean_nrmse, ChannelFit, Evaluation, Simulated,
+};
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use super::posterior::{variational_posterior, VariationalPosterior};
 use crate::bundle::{Bundle, RunRole};
@@ -56,8 +58,12 @@ pub struct CandidateResult {
     pub failed_points: usize,
     /// Mean normalised error on the calibration runs at the estimate.
     pub calibration_error: f64,
-    /// Mean normalised error on the validation runs at the estimate.
+    /// Mean normalised error on the validation runs at the estimate, in
+    /// excess of the sensor noise ([`noise_floor`]; set once every
+    /// candidate is in).
     pub validation_error: f64,
+    /// Mean raw NRMSE on the validation runs at the estimate (noise included).
+    pub validation_nrmse: f64,
     /// The validation runs simulated at the estimate.
     pub validation_sims: Vec<Simulated>,
     /// The calibration runs simulated at the estimate (for the symptoms).
@@ -190,6 +196,7 @@ pub fn diagnose_with(
         }
         results.push(r);
     }
+    excess_validation_errors(b, &val_runs, &mut results);
     let pick = select(&results);
     results[pick].selected = true;
     progress("posterior (BBVI)", 0, 1);
@@ -208,6 +215,35 @@ pub fn diagnose_with(
         extended_validation_error: ext,
         gain: if pick == 0 { 0.0 } else { 1.0 - ext / base },
     })
+}
+
+/// Each candidate's validation error in excess of the sensor noise, with
+/// one noise variance per channel for all of them: the smallest nugget
+/// estimate over the candidates' residuals (the model that explains most
+/// leaves the cleanest view of the noise). Without simulations it stays NaN.
+fn excess_validation_errors(b: &Bundle, val_runs: &[usize], results: &mut [CandidateResult]) {
+    let priors = Cause::None.priors();
+    let ev =
+        Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs: val_runs, demand: None };
+    let fits: Vec<Option<Vec<ChannelFit>>> = results
+        .iter()
+        .map(|r| (!r.validation_sims.is_empty()).then(|| ev.channels(&r.validation_sims)))
+        .collect();
+    let Some(n_ch) = fits.iter().flatten().map(Vec::len).next() else { return };
+    let floor: Vec<f64> = (0..n_ch)
+        .map(|c| {
+            fits.iter()
+                .flatten()
+                .filter_map(|f| f.get(c))
+                .map(|f| f.noise_var)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    for (r, f) in results.iter_mut().zip(&fits) {
+        if let Some(f) = f.as_ref().filter(|f| f.len() == n_ch) {
+            r.validation_error = mean_excess_nrmse(f, &floor);
+        }
+    }
 }
 
 /// MDL differences below this (nats) do not decide: a Bayes factor under e
@@ -270,6 +306,7 @@ fn assess(
         failed_points: failed,
         calibration_error: f64::NAN,
         validation_error: f64::NAN,
+        validation_nrmse: f64::NAN,
         validation_sims: vec![],
         calibration_sims: vec![],
         selected: false,
@@ -310,7 +347,7 @@ fn assess(
         demand: cal.demand,
     };
     if let Ok(sims) = one(exec.simulate(&ev, &[cal.theta(best)])?) {
-        out.validation_error = mean_nrmse(&ev.channels(&sims));
+        out.validation_nrmse = mean_nrmse(&ev.channels(&sims));
         out.validation_sims = sims;
     }
     out.calibration_sims = if cal_runs == val_runs {

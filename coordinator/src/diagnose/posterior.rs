@@ -249,6 +249,7 @@ mod tests {
                 rho: 0.0,
                 rms_meas: 1.0,
                 excited: true,
+                noise_var: 0.0,
             }]),
             coarse: 0.0,
         };

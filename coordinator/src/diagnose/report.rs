@@ -62,11 +62,16 @@ fn verdict_section(d: &Diagnosis) -> Section {
     if let Some(c) = chosen {
         blocks.push(Block::Paragraph(format!(
             "Every candidate model was calibrated on the calibration runs and scored by its \
-             minimum description length; {} has the lowest ({:.1} nats). Errors are the mean \
-             normalised RMS error RMS(simulated − measured) / RMS(measured) over the sensors \
-             of the validation runs.",
+             minimum description length; {} has the lowest ({:.1} nats). Validation errors are \
+             the mean over the sensors of the validation runs of the normalised RMS error in \
+             excess of the sensor noise, √max(MSE − σ², 0) / √(MS − σ²) (MSE of simulated − \
+             measured, MS of measured), 0 for a model that misses by the noise alone; σ² per \
+             sensor is the nugget of the residual's variogram, the smallest over the candidate \
+             models. Raw NRMSE (noise included): baseline {}, extended {}.",
             c.cause.as_str(),
-            c.mdl.as_ref().map_or(f64::NAN, |m| m.total)
+            c.mdl.as_ref().map_or(f64::NAN, |m| m.total),
+            num(d.candidates[0].validation_nrmse),
+            num(c.validation_nrmse),
         )));
     }
     if d.calibration_runs == d.validation_runs {
@@ -153,6 +158,7 @@ fn comparison_section(d: &Diagnosis) -> Section {
                 m.map_or("–".into(), |m| format!("{:.1}", m.total)),
                 m.map_or("–".into(), |m| format!("{:.1}", m.total - best)),
                 num(c.calibration_error),
+                num(c.validation_nrmse),
                 num(c.validation_error),
                 format!("{} ({} failed)", c.fe_points, c.failed_points),
             ]
@@ -166,11 +172,15 @@ fn comparison_section(d: &Diagnosis) -> Section {
         categories: d.candidates.iter().map(|c| c.cause.as_str().into()).collect(),
         groups: vec![
             BarGroup {
-                name: "calibration runs".into(),
+                name: "calibration runs, NRMSE".into(),
                 values: d.candidates.iter().map(|c| c.calibration_error).collect(),
             },
             BarGroup {
-                name: "validation runs".into(),
+                name: "validation runs, NRMSE".into(),
+                values: d.candidates.iter().map(|c| c.validation_nrmse).collect(),
+            },
+            BarGroup {
+                name: "validation runs, over noise".into(),
                 values: d.candidates.iter().map(|c| c.validation_error).collect(),
             },
         ],
@@ -193,8 +203,9 @@ fn comparison_section(d: &Diagnosis) -> Section {
                     "geometric",
                     "MDL",
                     "ΔMDL",
-                    "cal. error",
-                    "val. error",
+                    "cal. NRMSE",
+                    "val. NRMSE",
+                    "val. error over noise",
                     "FE points",
                 ]
                 .map(String::from)

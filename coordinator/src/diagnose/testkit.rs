@@ -183,6 +183,7 @@ pub fn pounding_diagnosis(
         failed_points: 0,
         calibration_error: f64::NAN,
         validation_error: f64::NAN,
+        validation_nrmse: f64::NAN,
         validation_sims: vec![sims[2].clone()],
         calibration_sims: sims[..2].to_vec(),
         selected,

@@ -17,8 +17,11 @@ pub struct CandidateJson {
     pub cause: String,
     /// MDL (nats); null when the calibration failed.
     pub mdl: Option<f64>,
-    /// Mean normalised error on the validation runs.
+    /// Mean normalised error on the validation runs, in excess of the
+    /// sensor noise (0: the model misses by the noise alone).
     pub validation_error: f64,
+    /// Mean raw NRMSE on the validation runs (sensor noise included).
+    pub validation_nrmse: f64,
     /// Whether it was chosen.
     pub selected: bool,
     /// Mean normalised error on the calibration runs.
@@ -177,6 +180,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 cause: c.cause.as_str().into(),
                 mdl: c.mdl.as_ref().map(|m| m.total),
                 validation_error: c.validation_error,
+                validation_nrmse: c.validation_nrmse,
                 selected: c.selected,
                 calibration_error: c.calibration_error,
                 mdl_terms: c.mdl.as_ref().map(|m| [m.fit, m.parametric, m.geometric]),
