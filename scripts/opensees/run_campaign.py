@@ -2,6 +2,7 @@
 """Run every exported run model of a synthetic campaign in OpenSees.
 
     python3.12 scripts/opensees/run_campaign.py MDIR [--osjson DIR] [--runs ID,...]
+                                                [--variant NAME[,NAME...]] [--variant-seed S]
     python3.12 scripts/opensees/run_campaign.py --self-check
 
 MDIR is what `ceilfarm synth SPEC.toml --export-models MDIR` wrote: per run
@@ -28,6 +29,13 @@ converge is halved, up to 6 times (dt/64, as ceilfarm does); if that fails too
 the run's history stops there, the failure is reported, and the exit status is 1.
 
 NRMSE of a sensor = RMS(OpenSees - ceilfarm) / RMS(ceilfarm), over the run.
+
+--variant changes the model's form before OpenSees builds it (variants.py:
+contact-impact, gap-scatter, friction-scatter, pinching-shape, damping-shift),
+the same way in every run and in the modal model; the changed model is written
+as `<run>.variant.json` beside the exported one (which is left as it is, since
+ceilfarm checks it) and simulator.json says under `variants` what each variant
+did to each model, or that its target is absent.
 """
 import argparse
 import csv
@@ -41,6 +49,8 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 MAX_HALVINGS = 6
+sys.path.insert(0, HERE)
+import variants  # noqa: E402
 
 
 def import_osjson(explicit=None):
@@ -144,6 +154,21 @@ def advance(ops, dt, depth, stats):
     return advance(ops, dt / 2, depth + 1, stats) and advance(ops, dt / 2, depth + 1, stats)
 
 
+def variant_model(path, osjson, names, seed):
+    """The model at path with variants applied, written as <stem>.variant.json;
+    returns (that path, report). No variants: (path, None)."""
+    if not names:
+        return path, None
+    with open(path) as f:
+        m, report = variants.apply(json.load(f), names, seed)
+    out = path[: -len(".json")] + ".variant.json"
+    with open(out, "w") as f:
+        json.dump(m, f, indent=1)
+        f.write("\n")
+    osjson.load_model(out)
+    return out, report
+
+
 def run_model(path, osjson, ops):
     """Builds and integrates one model; returns (columns, rows, report)."""
     m = osjson.load_model(path)
@@ -222,6 +247,10 @@ def compare(mdir, run, side, columns, rows):
     return out
 
 
+def describe_variants(vrep):
+    return ", ".join(n if r["applied"] else n + " (absent: no-op)" for n, r in vrep.items())
+
+
 def describe(cmp):
     parts = []
     for sid, c in cmp.items():
@@ -232,23 +261,26 @@ def describe(cmp):
     return ", ".join(parts)
 
 
-def modal(mdir, osjson, ops):
-    """Adds the OpenSees frequencies to modal.json; returns (f_hz, cpu_s) or None."""
+def modal(mdir, osjson, ops, names=(), seed=0):
+    """Adds the OpenSees frequencies to modal.json; returns (f_hz, cpu_s, variant report) or None."""
     path = os.path.join(mdir, "modal.json")
     if not os.path.isfile(path):
         return None
     with open(path) as f:
         md = json.load(f)
-    m = osjson.load_model(os.path.join(mdir, md["model"]))
+    mpath, vrep = variant_model(os.path.join(mdir, md["model"]), osjson, names, seed)
+    m = osjson.load_model(mpath)
     osjson.build_opensees(m, ops)
     c0 = time.process_time()
     f_hz = osjson.eigen_hz(ops, md["n_modes"], "-genBandArpack")
     cpu = time.process_time() - c0
     md.update(freq_hz=f_hz, simulator="opensees")
+    if names:
+        md["variants"] = {"names": list(vrep), "seed": seed}
     with open(path, "w") as f:
         json.dump(md, f, indent=2)
         f.write("\n")
-    return f_hz, cpu
+    return f_hz, cpu, vrep
 
 
 def opensees_version():
@@ -259,7 +291,7 @@ def opensees_version():
         return "unknown"
 
 
-def run_campaign(mdir, osjson, only=None):
+def run_campaign(mdir, osjson, only=None, names=(), seed=0):
     import openseespy.opensees as ops
     runs = sorted(f[: -len(".sensors.json")] for f in os.listdir(mdir) if f.endswith(".sensors.json"))
     if only:
@@ -271,11 +303,17 @@ def run_campaign(mdir, osjson, only=None):
         sys.exit("run_campaign: %s holds no <run>.sensors.json; export with "
                  "`ceilfarm synth SPEC --export-models %s`" % (mdir, mdir))
     summary = {"simulator": "opensees", "openseespy": opensees_version(), "runs": {}}
+    if names:
+        summary["variants"] = {"names": list(names), "seed": seed, "models": {}}
     status = 0
     for run in runs:
         with open(os.path.join(mdir, run + ".sensors.json")) as f:
             side = json.load(f)
-        columns, rows, rep = run_model(os.path.join(mdir, side["model"]), osjson, ops)
+        mpath, vrep = variant_model(os.path.join(mdir, side["model"]), osjson, names, seed)
+        if vrep is not None:
+            summary["variants"]["models"][os.path.basename(mpath)] = vrep
+            print("%s: variants %s" % (run, describe_variants(vrep)), flush=True)
+        columns, rows, rep = run_model(mpath, osjson, ops)
         write_csv(os.path.join(mdir, side["history_csv"]), columns, rows)
         rep["nrmse_vs_ceilfarm"] = compare(mdir, run, side, columns, rows)
         summary["runs"][run] = rep
@@ -287,9 +325,13 @@ def run_campaign(mdir, osjson, only=None):
         if rep["nrmse_vs_ceilfarm"]:
             line += "; NRMSE vs ceilfarm: " + describe(rep["nrmse_vs_ceilfarm"])
         print(line, flush=True)
-    md = modal(mdir, osjson, ops)
+    md = modal(mdir, osjson, ops, names, seed)
     if md:
-        summary["freq_hz"], summary["eigen_cpu_s"] = md
+        summary["freq_hz"], summary["eigen_cpu_s"], vrep = md
+        if vrep is not None:
+            summary["variants"]["modal_model"] = vrep
+            with open(os.path.join(mdir, "modal.json")) as f:
+                summary["ceilfarm_freq_hz"] = json.load(f).get("ceilfarm_freq_hz")
         print("modal: OpenSees f_hz %s" % ", ".join("%.4f" % f for f in md[0]))
     summary["cpu_s"] = sum(r["cpu_s"] for r in summary["runs"].values())
     with open(os.path.join(mdir, "simulator.json"), "w") as f:
@@ -373,15 +415,26 @@ def main():
     ap.add_argument("mdir", nargs="?", help="folder written by ceilfarm synth --export-models")
     ap.add_argument("--osjson", help="folder holding osjson.py")
     ap.add_argument("--runs", help="comma-separated run ids (default: all)")
+    ap.add_argument("--variant", help="comma-separated model-form variants (variants.py): "
+                    + ", ".join(variants.ORDER))
+    ap.add_argument("--variant-seed", type=int, default=0,
+                    help="seed of the variants' per-spring factors (default 0)")
     ap.add_argument("--self-check", action="store_true",
                     help="run a two-direction oscillator against the exact Newmark recurrence")
     a = ap.parse_args()
+    try:
+        names = variants.parse(a.variant)
+    except ValueError as e:
+        ap.error("--variant: %s" % e)
     osjson = import_osjson(a.osjson)
     if a.self_check:
+        variants.self_check()
+        print("variants self-check: ok")
         return self_check(osjson)
     if not a.mdir:
         ap.error("MDIR is required (or --self-check)")
-    return run_campaign(a.mdir, osjson, a.runs.split(",") if a.runs else None)
+    return run_campaign(a.mdir, osjson, a.runs.split(",") if a.runs else None,
+                        names, a.variant_seed)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,290 @@
+"""Named changes of model form applied to an exported run model before OpenSees builds it.
+
+An exported `ceiling-fe-model` is the very model ceilfarm simulates, so OpenSees
+on it only checks the solver. A variant changes the model's form the way a
+different simulator, or a real specimen, would: another contact law, scatter
+from spring to spring, another hysteresis shape, another damping. Each variant
+is a pure function of the model and a seed; a factor drawn for a spring depends
+only on (seed, variant, spring id), so every run of a campaign (they share the
+mesh) sees the same specimen.
+
+    import variants
+    m2, report = variants.apply(model_dict, ["contact-impact", "gap-scatter"], seed=1)
+
+Variants (units of the model file: N, mm, s, t):
+
+* contact-impact: springs of material type Gap become ImpactMaterial:
+  K1 = the gap's k, K2 = 0.3 K1, dy = 0.1 mm, same gap. Beware: in
+  OpenSeesPy 3.8 ImpactMaterial keeps state from uncommitted trials (a trial
+  strain followed by a commit elsewhere shifts its contact point), so Newton
+  iterations drift and a pounding campaign stops converging (sx: step 443
+  fails even at dt/64); contact-stiffening is the usable other contact law.
+* contact-stiffening: a stiffening two-stage contact instead of the linear
+  one: each Gap spring keeps its gap with 0.25 k, and a parallel Gap spring
+  (same nodes and dof) adds 1.5 k from 0.1 mm further in (a wall angle that
+  bends before it bears). Both stages elastic.
+* gap-scatter: each gap spring's opening (Gap or Impact `gap`, both stages of
+  a stiffening contact) times a factor uniform in [0.7, 1.3].
+* friction-scatter: each `perimeter_friction` spring of material Steel01 gets
+  Fy times a factor uniform in [0.7, 1.3] and post-slip ratio b times 3.
+* pinching-shape: each Pinching4 spring gets rDisp 0.5, rForce 0.5, uForce 0.1
+  on both sides (the exported shape is replaced) and its envelope forces times
+  a factor uniform in [0.8, 1.2] (initial stiffness scales with it).
+* damping-shift: Rayleigh re-targeted to 1.5 zeta at the lower anchor (the
+  lowest target frequency) and 0.7 zeta at 4 times it.
+
+A variant whose target is absent (no gap, no Steel01 friction spring, no
+Pinching4) leaves the model as it is and says so in its report.
+"""
+import copy
+import math
+import random
+
+IMPACT_K2_RATIO = 0.3
+IMPACT_DY_MM = 0.1
+GAP_SCATTER = (0.7, 1.3)
+FRICTION_FY_SCATTER = (0.7, 1.3)
+FRICTION_B_FACTOR = 3.0
+STIFFENING_FIRST = 0.25
+STIFFENING_SECOND = 1.5
+STIFFENING_OFFSET_MM = 0.1
+PINCHING_SHAPE = {"rDispP": 0.5, "rForceP": 0.5, "uForceP": 0.1,
+                  "rDispN": 0.5, "rForceN": 0.5, "uForceN": 0.1}
+PINCHING_STRENGTH = (0.8, 1.2)
+DAMPING_LOW_FACTOR = 1.5
+DAMPING_HIGH_FACTOR = 0.7
+DAMPING_HIGH_OVER_LOW = 4.0
+
+
+def factor(seed, variant, spring_id, lo, hi):
+    """A factor uniform in [lo, hi], fixed by (seed, variant, spring id)."""
+    return random.Random("%s|%s|%s" % (seed, variant, spring_id)).uniform(lo, hi)
+
+
+def materials(m):
+    return {mat["id"]: mat for mat in m.get("materials", [])}
+
+
+def springs_of(m, pred):
+    """Springs whose (spring, material) satisfy pred."""
+    mats = materials(m)
+    return [s for s in m.get("springs", []) if pred(s, mats[s["mat"]])]
+
+
+def own_material(m, spring, new_mat):
+    """Gives spring its own material new_mat (a fresh id)."""
+    new_id = max(mat["id"] for mat in m["materials"]) + 1
+    new_mat = dict(new_mat, id=new_id)
+    m["materials"].append(new_mat)
+    spring["mat"] = new_id
+    return new_mat
+
+
+def summary(values):
+    if not values:
+        return None
+    return {"min": min(values), "max": max(values),
+            "mean": sum(values) / len(values), "n": len(values)}
+
+
+def absent(what):
+    return {"applied": False, "note": "no %s in this model: left unchanged" % what}
+
+
+def contact_impact(m, seed):
+    """Gap springs -> ImpactMaterial (K1 = k, K2 = 0.3 K1, dy = 0.1 mm, same gap)."""
+    targets = springs_of(m, lambda s, mat: mat["type"] == "Gap")
+    if not targets:
+        return absent("Gap spring")
+    done = {}
+    for s in targets:
+        old = materials(m)[s["mat"]]
+        if old["id"] not in done:
+            k = old["k"]
+            done[old["id"]] = {"type": "Impact", "K1": k, "K2": IMPACT_K2_RATIO * k,
+                               "dy": IMPACT_DY_MM, "gap": old["gap"]}
+    for mid, new in done.items():
+        mat = materials(m)[mid]
+        for key in list(mat):
+            if key != "id":
+                del mat[key]
+        mat.update(new)
+    return {"applied": True, "n_springs": len(targets), "n_materials": len(done),
+            "K2_over_K1": IMPACT_K2_RATIO, "dy_mm": IMPACT_DY_MM,
+            "K1_N_per_mm": sorted({v["K1"] for v in done.values()})}
+
+
+def contact_stiffening(m, seed):
+    """Gap spring -> 0.25 k from its gap, plus a parallel 1.5 k from 0.1 mm further."""
+    targets = springs_of(m, lambda s, mat: mat["type"] == "Gap")
+    if not targets:
+        return absent("Gap spring")
+    next_id = max([s["id"] for s in m["springs"]] + [b["id"] for b in m.get("beams", [])]) + 1
+    added = []
+    for s in targets:
+        old = materials(m)[s["mat"]]
+        first = own_material(m, s, dict(old, k=STIFFENING_FIRST * old["k"]))
+        second = dict(s, id=next_id, parent=s["id"])
+        own_material(m, second, dict(old, k=STIFFENING_SECOND * old["k"],
+                                     gap=old["gap"] + STIFFENING_OFFSET_MM))
+        second["group"] = s.get("group", "perimeter_gap") + "_stage2"
+        added.append(second)
+        next_id += 1
+        assert first["gap"] == old["gap"]
+    m["springs"].extend(added)
+    return {"applied": True, "n_springs": len(targets), "k_first_over_k": STIFFENING_FIRST,
+            "k_second_over_k": STIFFENING_SECOND, "second_offset_mm": STIFFENING_OFFSET_MM,
+            "contact_k_at_gap_plus_0.1mm_over_k": STIFFENING_FIRST + STIFFENING_SECOND}
+
+
+def gap_scatter(m, seed):
+    """Each gap spring's opening times U[0.7, 1.3] (a stage-2 spring: its parent's factor)."""
+    targets = springs_of(m, lambda s, mat: mat["type"] in ("Gap", "Impact"))
+    if not targets:
+        return absent("Gap or Impact spring")
+    fs, gaps = [], []
+    for s in targets:
+        f = factor(seed, "gap-scatter", s.get("parent", s["id"]), *GAP_SCATTER)
+        mat = own_material(m, s, materials(m)[s["mat"]])
+        mat["gap"] = mat["gap"] * f
+        fs.append(f)
+        gaps.append(mat["gap"])
+    return {"applied": True, "n_springs": len(targets), "factor": summary(fs),
+            "gap_mm": summary(gaps)}
+
+
+def friction_scatter(m, seed):
+    """Each Steel01 perimeter-friction spring: Fy times U[0.7, 1.3], b times 3."""
+    targets = springs_of(m, lambda s, mat: mat["type"] == "Steel01"
+                         and s.get("group", "perimeter_friction") == "perimeter_friction")
+    if not targets:
+        return absent("Steel01 perimeter-friction spring")
+    fs, fys, bs = [], [], []
+    for s in targets:
+        f = factor(seed, "friction-scatter", s["id"], *FRICTION_FY_SCATTER)
+        mat = own_material(m, s, materials(m)[s["mat"]])
+        mat["Fy"] = mat["Fy"] * f
+        mat["b"] = mat["b"] * FRICTION_B_FACTOR
+        fs.append(f)
+        fys.append(mat["Fy"])
+        bs.append(mat["b"])
+    return {"applied": True, "n_springs": len(targets), "Fy_factor": summary(fs),
+            "Fy_N": summary(fys), "b": sorted(set(bs))}
+
+
+def pinching_shape(m, seed):
+    """Each Pinching4 spring: another pinching shape and envelope forces times U[0.8, 1.2]."""
+    targets = springs_of(m, lambda s, mat: mat["type"] == "Pinching4")
+    if not targets:
+        return absent("Pinching4 spring")
+    before = {k: materials(m)[targets[0]["mat"]][k] for k in PINCHING_SHAPE}
+    fs = []
+    for s in targets:
+        f = factor(seed, "pinching-shape", s["id"], *PINCHING_STRENGTH)
+        mat = own_material(m, s, copy.deepcopy(materials(m)[s["mat"]]))
+        mat.update(PINCHING_SHAPE)
+        mat["ePf"] = [v * f for v in mat["ePf"]]
+        mat["eNf"] = [v * f for v in mat["eNf"]]
+        fs.append(f)
+    return {"applied": True, "n_springs": len(targets), "shape_before": before,
+            "shape_after": dict(PINCHING_SHAPE), "strength_factor": summary(fs)}
+
+
+def rayleigh_zeta(alpha, beta, f_hz):
+    w = 2 * math.pi * f_hz
+    return alpha / (2 * w) + beta * w / 2
+
+
+def damping_shift(m, seed):
+    """Rayleigh through 1.5 zeta at the lowest target frequency and 0.7 zeta at 4 times it."""
+    d = m.get("damping")
+    if not d or d.get("type") != "rayleigh" or "target" not in d:
+        return absent("Rayleigh damping with a target")
+    zeta = d["target"]["zeta"]
+    f1 = min(d["target"]["f_hz"])
+    f2 = DAMPING_HIGH_OVER_LOW * f1
+    z1, z2 = DAMPING_LOW_FACTOR * zeta, DAMPING_HIGH_FACTOR * zeta
+    w1, w2 = 2 * math.pi * f1, 2 * math.pi * f2
+    # z_i = alpha / (2 w_i) + beta w_i / 2, solved for (alpha, beta)
+    beta = 2 * (z2 * w2 - z1 * w1) / (w2 * w2 - w1 * w1)
+    alpha = 2 * w1 * z1 - beta * w1 * w1
+    old = (d["alphaM"], d["betaK"])
+    d["alphaM"], d["betaK"] = alpha, beta
+    d["target"] = {"f_hz": [f1, f2], "zeta": [z1, z2], "modes": "damping-shift variant",
+                   "exported": d["target"]}
+    probe = [f1, 2 * f1, f2]
+    return {"applied": True, "alphaM": [old[0], alpha], "betaK": [old[1], beta],
+            "zeta_at_f_hz": {"%.3f" % f: [rayleigh_zeta(*old, f), rayleigh_zeta(alpha, beta, f)]
+                             for f in probe}}
+
+
+VARIANTS = {
+    "contact-impact": contact_impact,
+    "contact-stiffening": contact_stiffening,
+    "gap-scatter": gap_scatter,
+    "friction-scatter": friction_scatter,
+    "pinching-shape": pinching_shape,
+    "damping-shift": damping_shift,
+}
+# contact law first, then scatter of whatever gap material results
+ORDER = ["contact-impact", "contact-stiffening", "gap-scatter", "friction-scatter", "pinching-shape", "damping-shift"]
+
+
+def parse(text):
+    """'a,b' -> ['a', 'b'] in canonical order; refuses unknown names."""
+    names = [n.strip() for n in (text or "").split(",") if n.strip()]
+    unknown = [n for n in names if n not in VARIANTS]
+    if unknown:
+        raise ValueError("unknown variant %s: expected some of %s" % (unknown, ORDER))
+    return [n for n in ORDER if n in names]
+
+
+def apply(model, names, seed=0):
+    """A transformed copy of model (dict) and {variant: report}."""
+    m = copy.deepcopy(model)
+    m.pop("_dir", None)
+    report = {}
+    for name in parse(",".join(names)):
+        report[name] = VARIANTS[name](m, seed)
+    if report:
+        m.setdefault("meta", {})["variants"] = {"names": list(report), "seed": seed}
+    return m, report
+
+
+def self_check():
+    """Checks on a tiny model: the damping fit hits its anchors; factors are reproducible."""
+    m = {"materials": [{"id": 1, "type": "Gap", "k": 100.0, "gap": 0.5},
+                       {"id": 2, "type": "Steel01", "Fy": 5.0, "E0": 20.0, "b": 0.05}],
+         "springs": [{"id": 10, "mat": 1}, {"id": 11, "mat": 1},
+                     {"id": 12, "mat": 2, "group": "perimeter_friction"}],
+         "damping": {"type": "rayleigh", "alphaM": 1.0, "betaK": 1e-3, "stiffness": "initial",
+                     "target": {"f_hz": [10.0, 10.5], "zeta": 0.04}}}
+    a, ra = apply(m, ORDER, seed=7)
+    b, _ = apply(m, ORDER, seed=7)
+    c, _ = apply(m, ORDER, seed=8)
+    assert a == b and a != c
+    d = a["damping"]
+    assert abs(rayleigh_zeta(d["alphaM"], d["betaK"], 10.0) - 0.06) < 1e-12
+    assert abs(rayleigh_zeta(d["alphaM"], d["betaK"], 40.0) - 0.028) < 1e-12
+    mats = {x["id"]: x for x in a["materials"]}
+    gaps = [mats[s["mat"]] for s in a["springs"] if s["id"] in (10, 11)]
+    assert all(g["type"] == "Impact" and g["K2"] == 30.0 for g in gaps)
+    assert all(0.35 <= g["gap"] <= 0.65 for g in gaps) and gaps[0]["gap"] != gaps[1]["gap"]
+    fr = mats[a["springs"][2]["mat"]]
+    assert 3.5 <= fr["Fy"] <= 6.5 and abs(fr["b"] - 0.15) < 1e-15
+    assert ra["pinching-shape"]["applied"] is False
+    assert m["materials"][0]["type"] == "Gap"          # the input is untouched
+    s, rs = apply(m, ["contact-stiffening", "gap-scatter"], seed=7)
+    mats = {x["id"]: x for x in s["materials"]}
+    by_parent = {sp["parent"]: mats[sp["mat"]] for sp in s["springs"] if "parent" in sp}
+    for sp in s["springs"]:
+        if sp["id"] in (10, 11):
+            g1, g2 = mats[sp["mat"]], by_parent[sp["id"]]
+            assert g1["k"] == 25.0 and g2["k"] == 150.0
+            assert abs(g2["gap"] / g1["gap"] - 0.6 / 0.5) < 1e-12   # same factor on both stages
+    assert len(s["springs"]) == 5 and rs["gap-scatter"]["n_springs"] == 4
+    return True
+
+
+if __name__ == "__main__":
+    print("variants self-check:", "ok" if self_check() else "FAILED")
