@@ -172,6 +172,7 @@ fn parameter_sets_follow_the_variant() {
         "impact_factor",
         "conn_force_scale",
         "conn_disp_scale",
+        "conn_reload_force",
     ]);
     assert_eq!(all, expected);
     let elastic = names(Perimeter::Friction, Connections::Elastic);
@@ -302,6 +303,47 @@ fn pinching4_connection_starts_at_300_n_per_mm_scaled() {
         assert!((k - slope).abs() < 1e-12 * slope, "tangent {k} at {d} mm, expected {slope}");
         assert!((f - (u * k_max + slope * (d - u))).abs() < 1e-9, "force {f} at {d} mm");
     }
+}
+
+/// Energy dissipated by the first axial connection material of `spec`
+/// with `conn_reload_force` = `reload` over two cycles of ±`amp_mm`
+/// (N·mm), and the material's rForce on both sides.
+fn pinching_loop_energy(
+    spec: &fe::generator::CeilingSpec,
+    reload: f64,
+    amp_mm: f64,
+) -> (f64, [f64; 2]) {
+    let mut p = Parameters::prior_midpoints_for(spec);
+    p.set("conn_reload_force", reload).unwrap();
+    let m = generate(spec, &p).unwrap();
+    let axial = m.springs.iter().find(|s| s.group.as_deref() == Some("connection_axial")).unwrap();
+    let def = m.materials.iter().find(|d| d.id == axial.mat).unwrap();
+    let fe::materials::MaterialSpec::Pinching4(set) = &def.spec else { panic!("{:?}", def.spec) };
+    let r = [set.rForceP, set.rForceN];
+    let mut mat = build(&def.spec).unwrap();
+    let (mut d0, mut f0, mut energy) = (0.0, 0.0, 0.0);
+    for k in 1..=800 {
+        let d = amp_mm * (std::f64::consts::TAU * k as f64 / 400.0).sin();
+        let (f, _) = mat.trial(d).unwrap();
+        mat.commit();
+        energy += 0.5 * (f + f0) * (d - d0);
+        (d0, f0) = (d, f);
+    }
+    (energy, r)
+}
+
+#[test]
+fn reload_force_sets_the_pinching_and_fuller_loops_dissipate_more() {
+    let spec = specimen(2.4, 2.4, Perimeter::Linear, Connections::Pinching4);
+    let (e_seed, r_seed) = pinching_loop_energy(&spec, 0.2, 4.0);
+    let (e_full, r_full) = pinching_loop_energy(&spec, 0.6, 4.0);
+    assert_eq!(r_seed, [0.2, 0.2]);
+    assert_eq!(r_full, [0.6, 0.6]);
+    // Past the first backbone point (0.5 mm) the loops open; a higher
+    // reloading force lifts the reloading branch and encloses more area.
+    assert!(e_seed > 0.0 && e_full > 1.4 * e_seed, "{e_seed} N mm vs {e_full} N mm");
+    let mut p = Parameters::prior_midpoints_for(&spec);
+    assert!(p.set("conn_reload_force", 1.0).is_err(), "rForce is a ratio below 1");
 }
 
 #[test]

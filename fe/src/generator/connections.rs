@@ -46,6 +46,9 @@ pub const SPLICE_RESTRAINT_N_PER_MM: f64 = 1e7;
 /// Main-tee piece length (mm, seed Table 4.4).
 pub const MAIN_TEE_PIECE_MM: f64 = 3600.0;
 
+/// Pinching4 rForce of the seed's CJS-A set (Table 5.4), both sides.
+pub const CJS_A_RELOAD_FORCE: f64 = 0.2;
+
 /// The seed's CJS-A Pinching4 set (Table 5.4) with forces times
 /// `force_scale` and deformations times `disp_scale`.
 pub fn cjs_a(force_scale: f64, disp_scale: f64) -> Pinching4Spec {
@@ -57,10 +60,10 @@ pub fn cjs_a(force_scale: f64, disp_scale: f64) -> Pinching4Spec {
         eNf: f([-200.0, -620.0, -1248.0, -556.0]),
         eNd: d([-0.5, -5.0, -12.7, -16.0]),
         rDispP: 0.6,
-        rForceP: 0.2,
+        rForceP: CJS_A_RELOAD_FORCE,
         uForceP: -0.01,
         rDispN: 0.6,
-        rForceN: 0.2,
+        rForceN: CJS_A_RELOAD_FORCE,
         uForceN: -0.01,
         gK: [0.0; 4],
         gKLim: 0.0,
@@ -86,10 +89,15 @@ struct Mats {
 /// Appends the connection materials after the existing ones.
 fn materials(spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Mats {
     let axial = match spec.model.connections {
-        Connections::Pinching4 => MaterialSpec::Pinching4(Box::new(cjs_a(
-            p.value_or_midpoint("conn_force_scale"),
-            p.value_or_midpoint("conn_disp_scale"),
-        ))),
+        Connections::Pinching4 => {
+            let mut set = cjs_a(
+                p.value_or_midpoint("conn_force_scale"),
+                p.value_or_midpoint("conn_disp_scale"),
+            );
+            let reload = p.value_or_midpoint("conn_reload_force");
+            (set.rForceP, set.rForceN) = (reload, reload);
+            MaterialSpec::Pinching4(Box::new(set))
+        }
         _ => MaterialSpec::Elastic { k: p.value_or_midpoint("K_cc1") },
     };
     let list = [

@@ -98,14 +98,18 @@ pub const PARAMETERS: [ParamInfo; 15] = [
 ///   300 N/mm (0.51 of the main tee's 588 N/mm, 1.38 of the cross tee's 217);
 /// - `conn_force_scale`, `conn_disp_scale` U(0.5, 1.5): factors on the
 ///   forces and deformations of the CJS-A Pinching4 backbone (Table 5.4 is
-///   the median of fitted specimens).
-pub const EXTENSIONS: [ParamInfo; 6] = [
+///   the median of fitted specimens);
+/// - `conn_reload_force` U(0.1, 0.3): the CJS-A pinching, Pinching4 rForce on
+///   both sides (reloading force over the force at the largest past
+///   deformation; larger: fuller loops), Table 5.4's 0.2.
+pub const EXTENSIONS: [ParamInfo; 7] = [
     p("friction_fy_N", "N", 0.5, 3.5, true),
     ParamInfo { domain: Domain::Fraction, ..p("friction_b", "-", 0.0, 0.1, true) },
     p("gap_ratio", "-", 0.5, 1.5, true),
     p("impact_factor", "-", 0.25, 1.75, true),
     p("conn_force_scale", "-", 0.5, 1.5, true),
     p("conn_disp_scale", "-", 0.5, 1.5, true),
+    ParamInfo { domain: Domain::Fraction, ..p("conn_reload_force", "-", 0.1, 0.3, true) },
 ];
 
 /// Which model choice a parameter needs (for the refusal message).
@@ -120,7 +124,9 @@ fn needs(name: &str) -> &'static str {
         "gap_ratio" | "impact_factor" => {
             "it needs perimeter = \"pounding\" or \"friction-pounding\""
         }
-        "conn_force_scale" | "conn_disp_scale" => "it needs connections = \"pinching4\"",
+        "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" => {
+            "it needs connections = \"pinching4\""
+        }
         _ => "it is a parameter of the default model",
     }
 }
@@ -136,7 +142,9 @@ pub fn parameters_for(spec: &CeilingSpec) -> Vec<ParamInfo> {
         "K_cc2" | "K_cc3" | "K_mc" => conn != Connections::Rigid,
         "friction_fy_N" | "friction_b" => m.perimeter.has_friction(),
         "gap_ratio" | "impact_factor" => m.perimeter.has_pounding(),
-        "conn_force_scale" | "conn_disp_scale" => conn == Connections::Pinching4,
+        "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" => {
+            conn == Connections::Pinching4
+        }
         _ => true,
     };
     PARAMETERS
