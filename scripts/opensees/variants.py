@@ -23,10 +23,25 @@ Variants (units of the model file: N, mm, s, t):
   one: each Gap spring keeps its gap with 0.25 k, and a parallel Gap spring
   (same nodes and dof) adds 1.5 k from 0.1 mm further in (a wall angle that
   bends before it bears). Both stages elastic.
+* contact-softening: each Gap spring becomes an elastic bilinear contact with
+  ImpactMaterial's envelope (the seed's simplified model: K1 = k for the first
+  0.1 mm, then K2 = 0.3 K1), re-centring and without memory (OpenSees
+  ElasticMultiLinear), so that it converges where ImpactMaterial does not.
 * gap-scatter: each gap spring's opening (Gap or Impact `gap`, both stages of
   a stiffening contact) times a factor uniform in [0.7, 1.3].
 * friction-scatter: each `perimeter_friction` spring of material Steel01 gets
   Fy times a factor uniform in [0.7, 1.3] and post-slip ratio b times 3.
+* friction-smooth: each Steel01 perimeter-friction spring becomes Steel02
+  (Giuffre-Menegotto-Pinto) with the same Fy, E0 and b and a rounded
+  transition (R0 = 3, cR1 = 0.925, cR2 = 0.15): slip that starts gradually,
+  as a Wen plastic link with a low exponent does.
+* pinching-flag: each Pinching4 spring becomes OpenSees SelfCentering
+  (flag-shaped loops, symmetric): initial stiffness and activation force from
+  the first point of its positive envelope, the stiffness after activation
+  from its first segment, beta 0.6: another pinched law than Pinching4's.
+  (OpenSees Hysteretic, the obvious other choice, reports tangents that do
+  not follow its own unloading path and stalls Newton even on the initial
+  tangent.)
 * pinching-shape: each Pinching4 spring gets rDisp 0.5, rForce 0.5, uForce 0.1
   on both sides (the exported shape is replaced) and its envelope forces times
   a factor uniform in [0.8, 1.2] (initial stiffness scales with it).
@@ -51,6 +66,10 @@ STIFFENING_OFFSET_MM = 0.1
 PINCHING_SHAPE = {"rDispP": 0.5, "rForceP": 0.5, "uForceP": 0.1,
                   "rDispN": 0.5, "rForceN": 0.5, "uForceN": 0.1}
 PINCHING_STRENGTH = (0.8, 1.2)
+SOFTENING_K2_RATIO = 0.3
+SOFTENING_DY_MM = 0.1
+SMOOTH_STEEL02 = (3.0, 0.925, 0.15)
+FLAG_BETA = 0.6
 DAMPING_LOW_FACTOR = 1.5
 DAMPING_HIGH_FACTOR = 0.7
 DAMPING_HIGH_OVER_LOW = 4.0
@@ -190,6 +209,51 @@ def pinching_shape(m, seed):
             "shape_after": dict(PINCHING_SHAPE), "strength_factor": summary(fs)}
 
 
+def contact_softening(m, seed):
+    """Gap springs -> elastic bilinear contact: k for 0.1 mm past the gap, then 0.3 k."""
+    targets = springs_of(m, lambda s, mat: mat["type"] == "Gap")
+    if not targets:
+        return absent("Gap spring")
+    for s in targets:
+        old = materials(m)[s["mat"]]
+        k, gap = old["k"], abs(old["gap"])
+        far = 1e3
+        f1 = k * SOFTENING_DY_MM
+        strain = [-far, -gap - SOFTENING_DY_MM, -gap, far]
+        stress = [-f1 - SOFTENING_K2_RATIO * k * (far - gap - SOFTENING_DY_MM), -f1, 0.0, 0.0]
+        cmd = ["ElasticMultiLinear", 0.0, "-strain", *strain, "-stress", *stress]
+        own_material(m, s, {"type": "OpenSees", "cmd": cmd, "gap": gap, "k": k,
+                            "note": "contact-softening variant"})
+    return {"applied": True, "n_springs": len(targets), "K2_over_K1": SOFTENING_K2_RATIO,
+            "dy_mm": SOFTENING_DY_MM}
+
+
+def friction_smooth(m, seed):
+    """Each Steel01 perimeter-friction spring -> Steel02 with a rounded transition."""
+    targets = springs_of(m, lambda s, mat: mat["type"] == "Steel01"
+                         and s.get("group", "perimeter_friction") == "perimeter_friction")
+    if not targets:
+        return absent("Steel01 perimeter-friction spring")
+    for s in targets:
+        old = materials(m)[s["mat"]]
+        cmd = ["Steel02", old["Fy"], old["E0"], old["b"], *SMOOTH_STEEL02]
+        own_material(m, s, {"type": "OpenSees", "cmd": cmd, "note": "friction-smooth variant"})
+    return {"applied": True, "n_springs": len(targets), "R0_cR1_cR2": list(SMOOTH_STEEL02)}
+
+
+def pinching_flag(m, seed):
+    """Each Pinching4 spring -> OpenSees SelfCentering on its first envelope segment."""
+    targets = springs_of(m, lambda s, mat: mat["type"] == "Pinching4")
+    if not targets:
+        return absent("Pinching4 spring")
+    for s in targets:
+        old = materials(m)[s["mat"]]
+        (f1, f2), (d1, d2) = old["ePf"][:2], old["ePd"][:2]
+        cmd = ["SelfCentering", f1 / d1, (f2 - f1) / (d2 - d1), f1, FLAG_BETA]
+        own_material(m, s, {"type": "OpenSees", "cmd": cmd, "note": "pinching-flag variant"})
+    return {"applied": True, "n_springs": len(targets), "beta": FLAG_BETA}
+
+
 def rayleigh_zeta(alpha, beta, f_hz):
     w = 2 * math.pi * f_hz
     return alpha / (2 * w) + beta * w / 2
@@ -221,13 +285,18 @@ def damping_shift(m, seed):
 VARIANTS = {
     "contact-impact": contact_impact,
     "contact-stiffening": contact_stiffening,
+    "contact-softening": contact_softening,
     "gap-scatter": gap_scatter,
     "friction-scatter": friction_scatter,
+    "friction-smooth": friction_smooth,
     "pinching-shape": pinching_shape,
+    "pinching-flag": pinching_flag,
     "damping-shift": damping_shift,
 }
 # contact law first, then scatter of whatever gap material results
-ORDER = ["contact-impact", "contact-stiffening", "gap-scatter", "friction-scatter", "pinching-shape", "damping-shift"]
+ORDER = ["contact-impact", "contact-stiffening", "contact-softening", "gap-scatter",
+         "friction-scatter", "friction-smooth", "pinching-shape", "pinching-flag",
+         "damping-shift"]
 
 
 def parse(text):
@@ -259,9 +328,10 @@ def self_check():
                      {"id": 12, "mat": 2, "group": "perimeter_friction"}],
          "damping": {"type": "rayleigh", "alphaM": 1.0, "betaK": 1e-3, "stiffness": "initial",
                      "target": {"f_hz": [10.0, 10.5], "zeta": 0.04}}}
-    a, ra = apply(m, ORDER, seed=7)
-    b, _ = apply(m, ORDER, seed=7)
-    c, _ = apply(m, ORDER, seed=8)
+    first = ["contact-impact", "gap-scatter", "friction-scatter", "pinching-shape", "damping-shift"]
+    a, ra = apply(m, first, seed=7)
+    b, _ = apply(m, first, seed=7)
+    c, _ = apply(m, first, seed=8)
     assert a == b and a != c
     d = a["damping"]
     assert abs(rayleigh_zeta(d["alphaM"], d["betaK"], 10.0) - 0.06) < 1e-12
@@ -283,6 +353,16 @@ def self_check():
             assert g1["k"] == 25.0 and g2["k"] == 150.0
             assert abs(g2["gap"] / g1["gap"] - 0.6 / 0.5) < 1e-12   # same factor on both stages
     assert len(s["springs"]) == 5 and rs["gap-scatter"]["n_springs"] == 4
+    o, ro = apply(m, ["contact-softening", "friction-smooth", "pinching-flag"], seed=7)
+    mats = {x["id"]: x for x in o["materials"]}
+    soft = mats[o["springs"][0]["mat"]]
+    assert soft["type"] == "OpenSees" and soft["cmd"][0] == "ElasticMultiLinear"
+    strain, stress = soft["cmd"][3:7], soft["cmd"][8:12]
+    assert strain[1:3] == [-0.6, -0.5] and stress[1:] == [-10.0, 0.0, 0.0]
+    slope = (stress[1] - stress[0]) / (strain[1] - strain[0])
+    assert abs(slope - 30.0) < 1e-9                 # K2 = 0.3 K1 beyond the first 0.1 mm
+    assert mats[o["springs"][2]["mat"]]["cmd"][:4] == ["Steel02", 5.0, 20.0, 0.05]
+    assert ro["pinching-flag"]["applied"] is False
     return True
 
 
