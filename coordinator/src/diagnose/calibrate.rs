@@ -186,9 +186,14 @@ fn judge(ev: &Evaluation<'_>, u: &[f64], sims: Sims) -> Full {
 
 /// Calibrates `cause` on runs `runs` of `bundle`; `n_eff` weights the
 /// objective; `progress` hears (points done, points planned). With `base`
-/// (the baseline's estimate, unit cube) an extension varies only its own
-/// parameters, the baseline's held there: the extension then nests the
-/// calibrated baseline, and its budget grows with its own dimension only.
+/// (the baseline's estimate, unit cube) an extension is calibrated around
+/// the calibrated baseline, so that it nests it and its budget grows with
+/// its own dimension only: its design and emulator rounds vary the
+/// parameters without a [`Prior::reference`] (the baseline's held at
+/// `base`, the shape parameters at their reference: the seed's model, which
+/// the onset of the extra physics is sought in first), its coarse starts
+/// move all of its own, and the final local search every parameter; the
+/// valley walk follows the extension's own.
 /// `exec` runs the FE model.
 #[allow(clippy::too_many_arguments)] // each a different input of one calibration
 pub fn calibrate(
@@ -207,18 +212,25 @@ pub fn calibrate(
     };
     let priors = cause.priors();
     let fixed = base.map_or(0, <[f64]>::len);
-    let free: Vec<usize> = (fixed..priors.len()).collect();
-    let d = free.len();
+    let own: Vec<usize> = (fixed..priors.len()).collect();
+    let explored: Vec<usize> =
+        own.iter().copied().filter(|i| base.is_none() || priors[*i].reference.is_none()).collect();
+    let d = explored.len();
     let ev = Evaluation { bundle, cause, priors: &priors, runs, demand };
     let n0 = budget.per_dim * d + budget.extra;
     let planned = n0 + budget.rounds * budget.per_round + budget.local;
     let design = draw(DesignMethod::MaximinLhs, n0, d, budget.seed);
-    let embed = |x: &[f64]| -> Vec<f64> { base.unwrap_or(&[]).iter().chain(x).copied().collect() };
+    let held = held_point(&priors, base.unwrap_or(&[]));
+    let embed = |x: &[f64]| -> Vec<f64> {
+        let mut u = held.clone();
+        explored.iter().zip(x).for_each(|(i, v)| u[*i] = *v);
+        u
+    };
     let us: Vec<Vec<f64>> = (0..design.n()).map(|i| embed(design.row(i))).collect();
     let mut cal = Calibration {
         cause,
         priors: priors.clone(),
-        free,
+        free: explored.clone(),
         points: Vec::new(),
         demand,
         gauss_newton: None,
@@ -237,28 +249,52 @@ pub fn calibrate(
         cal.points.extend(evaluate_points(&ev, &next, exec)?);
         progress(cal.points.len(), planned);
     }
+    let stage = |cal: &Calibration, name: &str| {
+        tracing::debug!(cause = cause.as_str(), stage = name, fe_points = cal.points.len());
+    };
+    stage(&cal, "design and emulator rounds");
     let mut report = |done| progress(done, planned);
-    let mut search = Search { ev: &ev, n_eff, budget, exec };
+    let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
     let start = if base.is_some() { search.coarse_start(&mut cal, &mut report)? } else { None };
     let start = start.or_else(|| cal.best(n_eff).map(|k| cal.points[k].u.clone()));
-    if let Some(u) = start {
-        let full = budget.local;
-        let (mut u, mut gn) =
-            search.levenberg_marquardt(&mut cal, Scale::Fine, u, full, &mut report)?;
-        // A valley between an extension's own parameters; one parameter
-        // alone is searched by the local search itself.
-        let walks = if base.is_some() && d >= 2 { SLOPPY_WALKS } else { 0 };
-        for _ in 0..walks {
-            let Some(g) = gn.as_ref() else { break };
-            let Some(from) = search.sloppy_walk(&mut cal, &u, g, &mut report)? else { break };
-            let (end, g) =
-                search.levenberg_marquardt(&mut cal, Scale::Fine, from, full / 2, &mut report)?;
-            let Some(g) = g else { break };
-            (u, gn) = (end, Some(g));
-        }
-        cal.gauss_newton = gn;
+    cal.free = own.clone();
+    stage(&cal, "coarse starts");
+    let Some(u) = start else { return Ok(cal) };
+    let all: Vec<usize> = (0..priors.len()).collect();
+    let full = budget.local;
+    let (mut u, mut gn) =
+        search.levenberg_marquardt(&mut cal, Scale::Fine, u, &all, full, &mut report)?;
+    stage(&cal, "local search");
+    // A valley between an extension's own parameters; one parameter alone
+    // is searched by the local search itself.
+    let walks = if base.is_some() && own.len() >= 2 { SLOPPY_WALKS } else { 0 };
+    for _ in 0..walks {
+        let Some(g) = gn.as_ref() else { break };
+        let Some(from) = search.sloppy_walk(&mut cal, &u, g, &mut report)? else { break };
+        let (end, g) =
+            search.levenberg_marquardt(&mut cal, Scale::Fine, from, &all, full / 2, &mut report)?;
+        let Some(g) = g else { break };
+        (u, gn) = (end, Some(g));
     }
+    cal.gauss_newton = gn;
+    stage(&cal, "valley walk");
     Ok(cal)
+}
+
+/// The unit-cube point an extension's exploration starts from: the
+/// baseline's estimate `base` on its dimensions, each shape parameter at its
+/// reference, the others at the middle of their prior (replaced by the
+/// design).
+fn held_point(priors: &[Prior], base: &[f64]) -> Vec<f64> {
+    priors
+        .iter()
+        .enumerate()
+        .map(|(i, p)| match (base.get(i), p.reference) {
+            (Some(u), _) => *u,
+            (None, Some(r)) => p.unit(r).clamp(0.0, 1.0),
+            (None, None) => 0.5,
+        })
+        .collect()
 }
 
 /// Walks along the least-determined direction after a local search.
@@ -273,6 +309,8 @@ struct Search<'e, 'a> {
     n_eff: &'e [f64],
     budget: &'e Budget,
     exec: &'e mut dyn FeExecutor,
+    /// The variant's own dimensions (an extension's: beyond the baseline's).
+    own: &'e [usize],
 }
 
 /// Distinct starts of the coarse search.
@@ -280,12 +318,12 @@ const COARSE_STARTS: usize = 2;
 
 impl Search<'_, '_> {
     /// Coarse-to-fine start of an extension's final search: Levenberg–Marquardt
-    /// on the windowed RMS misfits over every parameter from the
+    /// on the windowed RMS misfits over the extension's own parameters (the
+    /// baseline's stay at its estimate: the final search moves them) from the
     /// [`COARSE_STARTS`] distinct points where they are smallest (the
-    /// extension's physics may trade against the baseline's, and its
-    /// time-history optimum is too sharp for a design to land near), then the
-    /// best under −log L of where those searches ended and the best point
-    /// evaluated before them.
+    /// extension's time-history optimum is too sharp for a design to land
+    /// near), then the best under −log L of where those searches ended and
+    /// the best point evaluated before them.
     fn coarse_start(
         &mut self,
         cal: &mut Calibration,
@@ -307,9 +345,12 @@ impl Search<'_, '_> {
         }
         let mut pick = cal.points[best].u.clone();
         let mut f_pick = cal.objective(n_eff)[best];
+        let active = self.own.to_vec();
         for from in starts {
-            let local = self.budget.local;
-            let (end, _) = self.levenberg_marquardt(cal, Scale::Coarse, from, local, progress)?;
+            // A start only has to reach the envelopes' broad basin.
+            let local = self.budget.local / 2;
+            let (end, _) =
+                self.levenberg_marquardt(cal, Scale::Coarse, from, &active, local, progress)?;
             let f = cal.objective(n_eff);
             let at_end = cal.points.iter().position(|p| p.u == end).map_or(f64::INFINITY, |k| f[k]);
             if at_end < f_pick {
@@ -357,24 +398,25 @@ impl Search<'_, '_> {
         Ok(best)
     }
 
-    /// Levenberg–Marquardt on −log L = Σ n_c/2 · log SSR_c over every
-    /// parameter (an extension re-tunes the baseline's too), from `start`, on
-    /// the time histories (n_c = n_eff) or the windowed misfits (n_c = windows):
-    /// forward-difference Jacobians of the residuals (k + 1 FE runs in
-    /// parallel), the Gauss–Newton matrix Σ n_c/SSR_c · JᵀJ, steps clamped to
+    /// Levenberg–Marquardt on −log L = Σ n_c/2 · log SSR_c over the `active`
+    /// dimensions, from `start`, on the time histories (n_c = n_eff) or the
+    /// windowed misfits (n_c = windows): forward-difference Jacobians of the
+    /// residuals (one FE run per active dimension, in parallel with the
+    /// centre), the Gauss–Newton matrix Σ n_c/SSR_c · JᵀJ, steps clamped to
     /// the unit cube; stops when `local` FE runs are spent or a step gains
-    /// < 0.01 nats.
-    /// Returns the final point and the Gauss–Newton matrix there.
+    /// < 0.01 nats. Returns the final point and the Gauss–Newton matrix
+    /// there (zero outside the active dimensions).
     fn levenberg_marquardt(
         &mut self,
         cal: &mut Calibration,
         scale: Scale,
         start: Vec<f64>,
+        active: &[usize],
         local: usize,
         progress: &mut dyn FnMut(usize),
     ) -> Result<(Vec<f64>, Option<DMatrix<f64>>), ExecutorError> {
         let (ev, n_eff) = (self.ev, self.n_eff);
-        let k = cal.priors.len();
+        let k = active.len();
         let objective = |p: &Point| match scale {
             Scale::Fine => p.neg_log_lik(n_eff),
             Scale::Coarse => p.coarse,
@@ -388,15 +430,15 @@ impl Search<'_, '_> {
         let (mut lambda, mut spent, mut gn): (f64, usize, Option<DMatrix<f64>>) = (1e-3, 0, None);
         // Extension parameters switch contact or slip on and off: a wider
         // difference step averages over the jumps that a narrow one would see.
-        let ext = cal.free.len() < k;
+        let ext = self.own.len() < cal.priors.len();
         let steps: Vec<f64> =
-            (0..k).map(|i| if ext && cal.free.contains(&i) { 2e-2 } else { 2e-3 }).collect();
-        while spent + k < local {
+            active.iter().map(|i| if ext && self.own.contains(i) { 2e-2 } else { 2e-3 }).collect();
+        while k > 0 && spent + k < local {
             let mut us = vec![u.clone()];
-            for i in 0..k {
-                let h = steps[i];
+            for (a, i) in active.iter().enumerate() {
+                let h = steps[a];
                 let mut v = u.clone();
-                v[i] = if v[i] + h <= 1.0 { v[i] + h } else { v[i] - h };
+                v[*i] = if v[*i] + h <= 1.0 { v[*i] + h } else { v[*i] - h };
                 us.push(v);
             }
             let evals = evaluate_full(ev, &us, self.exec)?;
@@ -408,8 +450,8 @@ impl Search<'_, '_> {
             let mut jt_r = DVector::zeros(k);
             let mut jt_j = DMatrix::zeros(k, k);
             let mut cols: Vec<Option<Residuals>> = Vec::with_capacity(k);
-            for (i, (_, ri)) in evals[1..].iter().enumerate() {
-                let step = us[i + 1][i] - u[i];
+            for (a, (_, ri)) in evals[1..].iter().enumerate() {
+                let step = us[a + 1][active[a]] - u[active[a]];
                 cols.push(ri.as_ref().map(pick).map(|ri| {
                     ri.iter()
                         .zip(&r0)
@@ -442,18 +484,18 @@ impl Search<'_, '_> {
             for (p, _) in &evals {
                 cal.points.push(p.clone());
             }
-            gn = Some(jt_j.clone());
+            gn = Some(embed_matrix(&jt_j, active, cal.priors.len()));
             progress(cal.points.len());
             let mut moved = false;
             let mut attempt = 0;
             'tries: while attempt < 4 && spent < local + k {
-                let Some(first) = lm_trial(&u, &jt_j, &jt_r, lambda) else { break };
+                let Some(first) = lm_trial(&u, active, &jt_j, &jt_r, lambda) else { break };
                 // The next attempt (10 λ) runs beside this one, so that a
                 // second worker is not idle while the first is judged; it
                 // is dropped unseen when the first is taken, so the points
                 // taken are those of trying one after the other.
                 let second = (attempt + 1 < 4 && spent + 2 <= local + k)
-                    .then(|| lm_trial(&u, &jt_j, &jt_r, lambda * 10.0))
+                    .then(|| lm_trial(&u, active, &jt_j, &jt_r, lambda * 10.0))
                     .flatten();
                 let trials: Vec<Vec<f64>> = std::iter::once(first).chain(second).collect();
                 let points = evaluate_points(ev, &trials, self.exec)?;
@@ -483,18 +525,37 @@ impl Search<'_, '_> {
     }
 }
 
-/// The Levenberg–Marquardt step from `u` with damping `lambda`:
-/// (JᵀJ + λ diag JᵀJ) δ = −Jᵀr, clamped to the unit cube (None when the
-/// damped matrix is not positive definite).
-fn lm_trial(u: &[f64], jt_j: &DMatrix<f64>, jt_r: &DVector<f64>, lambda: f64) -> Option<Vec<f64>> {
-    let k = u.len();
+/// The Levenberg–Marquardt step from `u` on the `active` dimensions with
+/// damping `lambda`: (JᵀJ + λ diag JᵀJ) δ = −Jᵀr, clamped to the unit cube
+/// (None when the damped matrix is not positive definite).
+fn lm_trial(
+    u: &[f64],
+    active: &[usize],
+    jt_j: &DMatrix<f64>,
+    jt_r: &DVector<f64>,
+    lambda: f64,
+) -> Option<Vec<f64>> {
     let mut a = jt_j.clone();
-    for i in 0..k {
+    for i in 0..active.len() {
         a[(i, i)] *= 1.0 + lambda;
         a[(i, i)] += 1e-12;
     }
     let delta = a.cholesky()?.solve(&(-jt_r));
-    Some(u.iter().zip(delta.iter()).map(|(x, d)| (x + d).clamp(0.0, 1.0)).collect())
+    let mut out = u.to_vec();
+    active.iter().zip(delta.iter()).for_each(|(i, d)| out[*i] = (u[*i] + d).clamp(0.0, 1.0));
+    Some(out)
+}
+
+/// `m` (over the `dims` of a `k`-dimensional space) as a k × k matrix, zero
+/// outside them.
+fn embed_matrix(m: &DMatrix<f64>, dims: &[usize], k: usize) -> DMatrix<f64> {
+    let mut out = DMatrix::zeros(k, k);
+    for (a, i) in dims.iter().enumerate() {
+        for (b, j) in dims.iter().enumerate() {
+            out[(*i, *j)] = m[(a, b)];
+        }
+    }
+    out
 }
 
 /// The least-determined direction of the `free` parameters when the others
@@ -590,7 +651,50 @@ mod tests {
         assert!((v[1].abs() - 1.0).abs() < 1e-12 && (v[0] / v[1] + 0.5).abs() < 1e-8, "{v}");
     }
 
+    #[test]
+    fn an_extension_is_explored_from_the_baseline_and_the_seed_shape() {
+        let priors = Cause::PerimeterPounding.priors();
+        let held = held_point(&priors, &[0.3, 0.7]);
+        assert_eq!(&held[..3], &[0.3, 0.7, 0.5]);
+        // impact_factor's reference is the seed's 0.4 EA/L: factor 1.
+        assert!((priors[3].at(held[3]) - 1.0).abs() < 1e-12, "{}", priors[3].at(held[3]));
+        // The baseline has no reference: every parameter is explored.
+        assert_eq!(held_point(&Cause::None.priors(), &[]), vec![0.5, 0.5]);
+    }
+
+    #[test]
+    fn a_matrix_over_some_dimensions_embeds_with_zeros_elsewhere() {
+        let m = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 5.0]);
+        let e = embed_matrix(&m, &[1, 3], 4);
+        assert_eq!((e[(1, 1)], e[(1, 3)], e[(3, 1)], e[(3, 3)]), (1.0, 2.0, 2.0, 5.0));
+        assert_eq!(e.iter().filter(|x| **x != 0.0).count(), 4);
+    }
+
     proptest! {
+        /// A step on some dimensions leaves the others where they were,
+        /// and with no damping solves the Gauss–Newton system on the
+        /// active ones (inside the cube).
+        #[test]
+        fn a_step_moves_only_the_active_dimensions(
+            u in proptest::collection::vec(0.3f64..0.7, 4),
+            a in proptest::collection::vec(-1.0f64..1.0, 4),
+            g in proptest::collection::vec(-0.01f64..0.01, 2),
+            pick in 0usize..6,
+        ) {
+            let pairs = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+            let active = pairs[pick];
+            let m = DMatrix::from_row_slice(2, 2, &a);
+            let jt_j = &m * m.transpose() + DMatrix::identity(2, 2);
+            let jt_r = DVector::from_row_slice(&g);
+            let next = lm_trial(&u, &active, &jt_j, &jt_r, 0.0).unwrap();
+            for i in (0..4).filter(|i| !active.contains(i)) {
+                prop_assert_eq!(next[i], u[i]);
+            }
+            let delta = DVector::from_iterator(2, active.iter().map(|i| next[*i] - u[*i]));
+            let res = &jt_j * &delta + &jt_r;
+            prop_assert!(res.norm() < 1e-9, "{}", res);
+        }
+
         /// Along the direction the held parameters stay at their
         /// conditional optimum (H v vanishes on them), and the curvature
         /// vᵀHv is the smallest over unit directions of the free ones.

@@ -232,8 +232,8 @@ mod tests {
     use crate::diagnose::fit::ChannelFit;
 
     const PRIORS: [Prior; 2] = [
-        Prior { name: "a", unit: "-", low: 0.0, high: 1.0, log: false },
-        Prior { name: "b", unit: "-", low: 0.0, high: 1.0, log: false },
+        Prior { name: "a", unit: "-", low: 0.0, high: 1.0, log: false, reference: None },
+        Prior { name: "b", unit: "-", low: 0.0, high: 1.0, log: false, reference: None },
     ];
 
     /// A calibration whose −log L (one channel, n_eff 2: −log L = log SSR)
