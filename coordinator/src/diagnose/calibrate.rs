@@ -33,11 +33,23 @@ pub struct Budget {
     pub threads: usize,
     /// Seed of the design.
     pub seed: u64,
+    /// Walks along the least-determined direction after an extension's
+    /// local search (one costs ~8 to 14 FE runs).
+    pub valley_walks: usize,
 }
 
 impl Default for Budget {
     fn default() -> Self {
-        Budget { per_dim: 5, extra: 2, rounds: 2, per_round: 2, local: 24, threads: 2, seed: 1 }
+        Budget {
+            per_dim: 5,
+            extra: 2,
+            rounds: 2,
+            per_round: 2,
+            local: 24,
+            threads: 2,
+            seed: 1,
+            valley_walks: 0,
+        }
     }
 }
 
@@ -193,7 +205,7 @@ fn judge(ev: &Evaluation<'_>, u: &[f64], sims: Sims) -> Full {
 /// `base`, the shape parameters at their reference: the seed's model, which
 /// the onset of the extra physics is sought in first), its coarse starts
 /// move all of its own, and the final local search every parameter; the
-/// valley walk follows the extension's own.
+/// valley walks ([`Budget::valley_walks`]) follow the extension's own.
 /// `exec` runs the FE model.
 #[allow(clippy::too_many_arguments)] // each a different input of one calibration
 pub fn calibrate(
@@ -267,7 +279,7 @@ pub fn calibrate(
     stage(&cal, "local search");
     // A valley between an extension's own parameters; one parameter alone
     // is searched by the local search itself.
-    let walks = if base.is_some() && own.len() >= 2 { SLOPPY_WALKS } else { 0 };
+    let walks = if base.is_some() && own.len() >= 2 { budget.valley_walks } else { 0 };
     for _ in 0..walks {
         let Some(g) = gn.as_ref() else { break };
         let Some(from) = search.sloppy_walk(&mut cal, &u, g, &mut report)? else { break };
@@ -297,8 +309,6 @@ fn held_point(priors: &[Prior], base: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Walks along the least-determined direction after a local search.
-const SLOPPY_WALKS: usize = 1;
 /// Distances (unit cube) probed each way along the least-determined direction.
 const SLOPPY_STEPS: [f64; 4] = [0.03, 0.06, 0.12, 0.24];
 

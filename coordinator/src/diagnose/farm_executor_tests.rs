@@ -37,6 +37,7 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
             local: 5,
             threads: 2,
             seed: 3,
+            valley_walks: 1,
         },
         candidates: vec![Cause::None, Cause::PerimeterPounding],
     }
