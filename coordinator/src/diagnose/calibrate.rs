@@ -80,7 +80,8 @@ pub struct Calibration {
     /// Its priors.
     pub priors: Vec<Prior>,
     /// The dimensions this calibration varied (the others held at the
-    /// baseline's estimate).
+    /// baseline's estimate); while the design and emulator rounds run, the
+    /// ones they explore.
     pub free: Vec<usize>,
     /// Every evaluation, in order.
     pub points: Vec<Point>,
@@ -289,7 +290,9 @@ pub fn calibrate(
         (u, gn) = (end, Some(g));
     }
     cal.gauss_newton = gn;
-    stage(&cal, "valley walk");
+    if walks > 0 {
+        stage(&cal, "valley walk");
+    }
     Ok(cal)
 }
 

@@ -289,34 +289,20 @@ mod tests {
             connection_n: 12.0,
             nominal_gap_mm: 19.0,
         };
-        let structure = crate::bundle::Structure {
-            length_x_m: 2.4,
-            length_y_m: 2.4,
-            module_m: 0.6,
-            main_tee_spacing_m: 1.2,
-            hanger_spacing_m: 1.2,
-            hanger_length_m: 1.0,
-            panel_mass_kg: 1.2,
-            layers: 1,
-            boundary: crate::bundle::Boundary::SemiFree,
-            nominal_gap_mm: Some(19.0),
-        };
+        let structure = crate::diagnose::testkit::square_structure(2.4, 19.0);
         for c in Cause::ALL {
             let spec = crate::specimen::fe_spec(&structure, c.model_options()).unwrap();
             let priors = c.priors();
+            let named: Vec<(&str, f64)> = priors.iter().map(|q| (q.name, q.at(0.5))).collect();
             for p in &priors {
-                if let Some(r) = p.reference {
-                    assert!(p.low <= r && r <= p.high, "{p:?}");
-                }
-                for u in [0.0, 1.0] {
-                    let named: Vec<(&str, f64)> =
-                        priors.iter().map(|q| (q.name, q.at(0.5))).collect();
+                for v in [p.low, p.high].into_iter().chain(p.reference) {
+                    assert!(p.low <= v && v <= p.high, "{p:?}");
                     let mut params = fe::generator::Parameters::prior_midpoints_for(&spec);
-                    for (name, v) in model_parameters(p, p.at(u), &named, &demand) {
+                    for (name, x) in model_parameters(p, v, &named, &demand) {
                         if name == crate::diagnose::fit::DAMPING_RATIO {
                             continue; // a solver option, set by `fit`
                         }
-                        params.set(name, v).unwrap_or_else(|e| panic!("{c:?} {p:?}: {e}"));
+                        params.set(name, x).unwrap_or_else(|e| panic!("{c:?} {p:?} {v}: {e}"));
                     }
                 }
             }

@@ -4,6 +4,23 @@
 use super::fit::Simulated;
 use rand::{Rng, SeedableRng};
 
+/// A square one-layer semi-free specimen of side `side_m` on the 0.6 m
+/// module, with the nominal gap `nominal_gap_mm`.
+pub fn square_structure(side_m: f64, nominal_gap_mm: f64) -> crate::bundle::Structure {
+    crate::bundle::Structure {
+        length_x_m: side_m,
+        length_y_m: side_m,
+        module_m: 0.6,
+        main_tee_spacing_m: 1.2,
+        hanger_spacing_m: 1.2,
+        hanger_length_m: 1.0,
+        panel_mass_kg: 1.2,
+        layers: 1,
+        boundary: crate::bundle::Boundary::SemiFree,
+        nominal_gap_mm: Some(nominal_gap_mm),
+    }
+}
+
 /// Seeded white noise, uniform in [-amp, amp].
 pub fn white_noise(n: usize, amp: f64, seed: u64) -> Vec<f64> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
@@ -134,18 +151,7 @@ pub fn pounding_diagnosis(
         format: FORMAT.into(),
         name: "sdof-campaign".into(),
         description: None,
-        structure: Structure {
-            length_x_m: 3.6,
-            length_y_m: 3.6,
-            module_m: 0.6,
-            main_tee_spacing_m: 1.2,
-            hanger_spacing_m: 1.2,
-            hanger_length_m: 1.0,
-            panel_mass_kg: 1.2,
-            layers: 1,
-            boundary: Boundary::SemiFree,
-            nominal_gap_mm: Some(gap_m * 1000.0),
-        },
+        structure: square_structure(3.6, gap_m * 1000.0),
         sensors,
         runs: runs
             .iter()
