@@ -205,7 +205,8 @@ fn judge(ev: &Evaluation<'_>, u: &[f64], sims: Sims) -> Full {
 /// parameters without a [`Prior::reference`] (the baseline's held at
 /// `base`, the shape parameters at their reference: the seed's model, which
 /// the onset of the extra physics is sought in first), its coarse starts
-/// move all of its own, and the final local search every parameter; the
+/// move all of its own, and the final local search every parameter (the
+/// runs of each stage: [`Stages`]); the
 /// valley walks ([`Budget::valley_walks`]) follow the extension's own.
 /// `exec` runs the FE model.
 #[allow(clippy::too_many_arguments)] // each a different input of one calibration
@@ -230,8 +231,9 @@ pub fn calibrate(
         own.iter().copied().filter(|i| base.is_none() || priors[*i].reference.is_none()).collect();
     let d = explored.len();
     let ev = Evaluation { bundle, cause, priors: &priors, runs, demand };
+    let plan = Stages::of(budget, base.is_some(), own.len());
     let n0 = budget.per_dim * d + budget.extra;
-    let planned = n0 + budget.rounds * budget.per_round + budget.local;
+    let planned = n0 + plan.runs(budget);
     let design = draw(DesignMethod::MaximinLhs, n0, d, budget.seed);
     let held = held_point(&priors, base.unwrap_or(&[]));
     let embed = |x: &[f64]| -> Vec<f64> {
@@ -252,7 +254,7 @@ pub fn calibrate(
         cal.points.extend(evaluate_points(&ev, chunk, exec)?);
         progress(cal.points.len(), planned);
     }
-    for round in 0..budget.rounds {
+    for round in 0..plan.rounds {
         let Some(gp) = cal.emulator(n_eff) else { break };
         let best = cal
             .best(n_eff)
@@ -268,13 +270,16 @@ pub fn calibrate(
     stage(&cal, "design and emulator rounds");
     let mut report = |done| progress(done, planned);
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
-    let start = if base.is_some() { search.coarse_start(&mut cal, &mut report)? } else { None };
+    let start = match plan.coarse_starts {
+        0 => None,
+        n => search.coarse_start(&mut cal, n, &mut report)?,
+    };
     let start = start.or_else(|| cal.best(n_eff).map(|k| cal.points[k].u.clone()));
     cal.free = own.clone();
     stage(&cal, "coarse starts");
     let Some(u) = start else { return Ok(cal) };
     let all: Vec<usize> = (0..priors.len()).collect();
-    let full = budget.local;
+    let full = plan.full;
     let (mut u, mut gn) =
         search.levenberg_marquardt(&mut cal, Scale::Fine, u, &all, full, &mut report)?;
     stage(&cal, "local search");
@@ -294,6 +299,52 @@ pub fn calibrate(
         stage(&cal, "valley walk");
     }
     Ok(cal)
+}
+
+/// Most own parameters an extension has for two coarse starts. A start
+/// spends a Jacobian (one FE run per own parameter and the centre) and a
+/// trial per step out of `local / 2` FE runs: with three parameters that is
+/// two steps, and the second start mostly ended worse under the
+/// time-history likelihood than the best design point, so its runs go to
+/// the emulator rounds instead (see [`Stages`]).
+const COARSE_MAX_DIMS: usize = 2;
+
+/// FE runs of a calibration's stages after its design.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Stages {
+    /// Rounds of emulator-guided runs.
+    rounds: usize,
+    /// Coarse starts (0: none), `local / 2` FE runs each.
+    coarse_starts: usize,
+    /// FE runs of the final local search.
+    full: usize,
+}
+
+impl Stages {
+    /// The stages of a variant with `own` parameters of its own
+    /// (`extension`: calibrated around the baseline). The baseline: emulator
+    /// rounds and the local search. An extension with at most
+    /// [`COARSE_MAX_DIMS`]: [`COARSE_STARTS`] coarse starts too. One with
+    /// more: one coarse start, the other start's runs in emulator rounds,
+    /// and a local search half as long again (five or more dimensions with a
+    /// needle-sharp optimum: 24 runs are three Levenberg–Marquardt steps).
+    fn of(budget: &Budget, extension: bool, own: usize) -> Self {
+        let plain = Stages { rounds: budget.rounds, coarse_starts: 0, full: budget.local };
+        match (extension, own <= COARSE_MAX_DIMS) {
+            (false, _) => plain,
+            (true, true) => Stages { coarse_starts: COARSE_STARTS, ..plain },
+            (true, false) => Stages {
+                rounds: budget.rounds + (budget.local / 2) / budget.per_round.max(1),
+                coarse_starts: 1,
+                full: budget.local + budget.local / 2,
+            },
+        }
+    }
+
+    /// FE runs planned after the design.
+    fn runs(&self, budget: &Budget) -> usize {
+        self.rounds * budget.per_round + self.coarse_starts * (budget.local / 2) + self.full
+    }
 }
 
 /// The unit-cube point an extension's exploration starts from: the
@@ -333,13 +384,14 @@ impl Search<'_, '_> {
     /// Coarse-to-fine start of an extension's final search: Levenberg–Marquardt
     /// on the windowed RMS misfits over the extension's own parameters (the
     /// baseline's stay at its estimate: the final search moves them) from the
-    /// [`COARSE_STARTS`] distinct points where they are smallest (the
+    /// `n` distinct points where they are smallest (the
     /// extension's time-history optimum is too sharp for a design to land
     /// near), then the best under −log L of where those searches ended and
     /// the best point evaluated before them.
     fn coarse_start(
         &mut self,
         cal: &mut Calibration,
+        n: usize,
         progress: &mut dyn FnMut(usize),
     ) -> Result<Option<Vec<f64>>, ExecutorError> {
         let n_eff = self.n_eff;
@@ -350,8 +402,7 @@ impl Search<'_, '_> {
         let mut starts: Vec<Vec<f64>> = Vec::new();
         for k in order {
             let u = &cal.points[k].u;
-            if starts.len() < COARSE_STARTS
-                && starts.iter().all(|s| crate::design::sq_dist(s, u).sqrt() > 0.15)
+            if starts.len() < n && starts.iter().all(|s| crate::design::sq_dist(s, u).sqrt() > 0.15)
             {
                 starts.push(u.clone());
             }
@@ -673,6 +724,24 @@ mod tests {
         assert!((priors[3].at(held[3]) - 1.0).abs() < 1e-12, "{}", priors[3].at(held[3]));
         // The baseline has no reference: every parameter is explored.
         assert_eq!(held_point(&Cause::None.priors(), &[]), vec![0.5, 0.5]);
+    }
+
+    #[test]
+    fn an_extension_with_three_parameters_keeps_one_coarse_start_and_searches_longer() {
+        let b = Budget::default();
+        let baseline = Stages::of(&b, false, 2);
+        assert_eq!(baseline, Stages { rounds: b.rounds, coarse_starts: 0, full: b.local });
+        let two = Stages::of(&b, true, 2);
+        assert_eq!(two, Stages { coarse_starts: COARSE_STARTS, ..baseline });
+        let three = Stages::of(&b, true, 3);
+        assert_eq!(three.coarse_starts, 1);
+        assert!(three.rounds > two.rounds && three.full > two.full, "{three:?}");
+        // The second start's runs go to the rounds; the search grows by half.
+        assert_eq!(three.rounds * b.per_round, two.rounds * b.per_round + b.local / 2);
+        assert_eq!(three.runs(&b), two.runs(&b) + b.local / 2);
+        // Rounds of 5 take 10 of the second start's 12 runs.
+        let five = Stages::of(&Budget { per_round: 5, ..b }, true, 3);
+        assert_eq!(five.rounds, b.rounds + 2);
     }
 
     #[test]
