@@ -368,13 +368,17 @@ const SLOPPY_STEPS: [f64; 4] = [0.03, 0.06, 0.12, 0.24];
 
 /// What the final searches share: the variant, the weights, the budget and
 /// who runs the FE model.
-struct Search<'e, 'a> {
-    ev: &'e Evaluation<'a>,
-    n_eff: &'e [f64],
-    budget: &'e Budget,
-    exec: &'e mut dyn FeExecutor,
+pub(super) struct Search<'e, 'a> {
+    /// The variant and the runs it is judged on.
+    pub(super) ev: &'e Evaluation<'a>,
+    /// Channel weights of −log L.
+    pub(super) n_eff: &'e [f64],
+    /// The calibration budget.
+    pub(super) budget: &'e Budget,
+    /// Who runs the FE model.
+    pub(super) exec: &'e mut dyn FeExecutor,
     /// The variant's own dimensions (an extension's: beyond the baseline's).
-    own: &'e [usize],
+    pub(super) own: &'e [usize],
 }
 
 /// Distinct starts of the coarse search.
@@ -470,7 +474,7 @@ impl Search<'_, '_> {
     /// the unit cube; stops when `local` FE runs are spent or a step gains
     /// < 0.01 nats. Returns the final point and the Gauss–Newton matrix
     /// there (zero outside the active dimensions).
-    fn levenberg_marquardt(
+    pub(super) fn levenberg_marquardt(
         &mut self,
         cal: &mut Calibration,
         scale: Scale,

@@ -146,6 +146,18 @@ const CONNECTION: [Prior; 3] = [
     },
 ];
 
+/// The part of an extension that acts before its onset: with the onset
+/// parameter at the top of its prior (the physics never switching on in the
+/// calibration runs) the extension is a linear model, and these of its own
+/// parameters still change it (the connections' initial stiffness).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LinearPart {
+    /// The parameter whose value sets the onset (held at its prior's top).
+    pub onset: &'static str,
+    /// The extension's own parameters that act below the onset.
+    pub linear: &'static [&'static str],
+}
+
 /// Initial stiffness of the unscaled CJS-A backbone (N/mm): 150 N at 0.5 mm.
 const CJS_A_INITIAL_N_PER_MM: f64 = 300.0;
 
@@ -250,6 +262,17 @@ impl Cause {
         BASELINE_PRIORS.iter().chain(self.extra_priors()).copied().collect()
     }
 
+    /// The extension's linear part, when it has one that differs from the
+    /// baseline (pounding and friction do nothing before contact or slip).
+    pub fn linear_part(self) -> Option<LinearPart> {
+        match self {
+            Cause::ConnectionHysteresis => {
+                Some(LinearPart { onset: "yield_over_demand", linear: &["conn_stiffness_factor"] })
+            }
+            _ => None,
+        }
+    }
+
     /// What the physics is, in a sentence for the report.
     pub fn explain(self) -> &'static str {
         match self {
@@ -264,6 +287,18 @@ impl Cause {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_linear_part_names_parameters_of_its_own_extension() {
+        for c in Cause::ALL {
+            let Some(lp) = c.linear_part() else { continue };
+            let own: Vec<&str> = c.extra_priors().iter().map(|p| p.name).collect();
+            assert!(own.contains(&lp.onset), "{c:?}");
+            assert!(lp.linear.iter().all(|n| own.contains(n) && *n != lp.onset), "{c:?}");
+        }
+        assert!(Cause::ConnectionHysteresis.linear_part().is_some());
+        assert!(Cause::None.linear_part().is_none());
+    }
 
     #[test]
     fn spellings_round_trip_and_priors_map_both_ways() {

@@ -13,6 +13,7 @@ pub mod executor;
 pub mod farm_executor;
 pub mod filter;
 pub mod fit;
+pub mod linear_part;
 pub mod loop_damping;
 pub mod mdl;
 pub mod noise_floor;

@@ -7,7 +7,7 @@
 
 use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated};
-use super::pipeline::Diagnosis;
+use super::pipeline::{Diagnosis, LINEAR_PART_NATS};
 use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
 use super::symptoms::{half_cycle_peaks, rms};
@@ -217,8 +217,37 @@ fn comparison_section(d: &Diagnosis) -> Section {
                 "Errors of each calibrated model on the calibration and validation runs.",
                 chart,
             ),
-        ],
+        ]
+        .into_iter()
+        .chain(linear_part_notes(d))
+        .collect(),
     }
+}
+
+/// A note per extension with a linear part: its MDL, and whether the
+/// extension beat it (else it was out of the running).
+fn linear_part_notes(d: &Diagnosis) -> Vec<Block> {
+    d.candidates
+        .iter()
+        .filter_map(|c| Some((c, c.linear_part_mdl?, c.mdl.as_ref()?.total)))
+        .map(|(c, linear, total)| {
+            let verdict = if total <= linear - LINEAR_PART_NATS {
+                "it beats that by more than ln 100 nats, so the nonlinearity earns its place"
+            } else {
+                "it does not beat that by ln 100 nats, so its gain is a linear change of the \
+                 model, not its physics, and it is out of the running"
+            };
+            Block::Note {
+                kind: NoteKind::Info,
+                text: format!(
+                    "{}'s linear part (its onset out of reach, only the parameters that act \
+                     before it free) has MDL {linear:.1}, against {total:.1} for the extension: \
+                     {verdict}.",
+                    c.cause.as_str()
+                ),
+            }
+        })
+        .collect()
 }
 
 fn parameters_section(d: &Diagnosis) -> Section {

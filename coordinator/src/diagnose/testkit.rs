@@ -184,6 +184,7 @@ pub fn pounding_diagnosis(
     let candidate = |cause, sims: &[Simulated], selected| CandidateResult {
         cause,
         mdl: None,
+        linear_part_mdl: None,
         estimates: vec![],
         fe_points: 0,
         failed_points: 0,

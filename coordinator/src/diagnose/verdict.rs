@@ -26,6 +26,10 @@ pub struct CandidateJson {
     pub selected: bool,
     /// Mean normalised error on the calibration runs.
     pub calibration_error: f64,
+    /// MDL of the candidate's linear part (nats), which it must beat to be
+    /// chosen; absent when it has none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear_part_mdl: Option<f64>,
     /// MDL terms: fit, parametric, geometric (nats).
     pub mdl_terms: Option<[f64; 3]>,
     /// Parameters k.
@@ -183,6 +187,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 validation_nrmse: c.validation_nrmse,
                 selected: c.selected,
                 calibration_error: c.calibration_error,
+                linear_part_mdl: c.linear_part_mdl,
                 mdl_terms: c.mdl.as_ref().map(|m| [m.fit, m.parametric, m.geometric]),
                 k: c.cause.priors().len(),
                 fe_points: c.fe_points,
