@@ -48,6 +48,12 @@ pub struct Args {
     /// search stops in).
     #[arg(long, default_value_t = 0)]
     pub valley_walks: usize,
+    /// Also calibrate connection hysteresis along a second path with the
+    /// viscous damping explored below the baseline's estimate (about 50 more
+    /// FE runs; for strong hysteresis, whose dissipation the baseline takes
+    /// for damping).
+    #[arg(long)]
+    pub damping_path: bool,
 }
 
 /// Runs `diagnose`.
@@ -59,6 +65,7 @@ pub fn run(a: Args) -> Result<()> {
         per_dim: a.points_per_parameter,
         seed: a.seed,
         valley_walks: a.valley_walks,
+        damping_path: a.damping_path,
         ..Budget::default()
     };
     let plan = FarmPlan {

@@ -8,7 +8,7 @@
 use super::cause::{Cause, Demand, Prior};
 use super::envelope::envelope_neg_log_lik;
 use super::executor::{ExecutorError, FeExecutor, Sims};
-use super::fit::{neg_log_lik, ChannelFit, Evaluation};
+use super::fit::{neg_log_lik, ChannelFit, Evaluation, DAMPING_RATIO};
 use crate::bundle::Bundle;
 use crate::design::draw;
 use crate::study::DesignMethod;
@@ -36,6 +36,9 @@ pub struct Budget {
     /// Walks along the least-determined direction after an extension's
     /// local search (one costs ~8 to 14 FE runs).
     pub valley_walks: usize,
+    /// Whether an extension with three or more parameters of its own also
+    /// takes the lower-damping path ([`Search::damping_path`], ~50 FE runs).
+    pub damping_path: bool,
 }
 
 impl Default for Budget {
@@ -49,6 +52,7 @@ impl Default for Budget {
             threads: 2,
             seed: 1,
             valley_walks: 0,
+            damping_path: false,
         }
     }
 }
@@ -233,7 +237,7 @@ pub fn calibrate(
     let ev = Evaluation { bundle, cause, priors: &priors, runs, demand };
     let plan = Stages::of(budget, base.is_some(), own.len());
     let n0 = budget.per_dim * d + budget.extra;
-    let planned = n0 + plan.runs(budget);
+    let planned = n0 + plan.runs(budget, d);
     let design = draw(DesignMethod::MaximinLhs, n0, d, budget.seed);
     let held = held_point(&priors, base.unwrap_or(&[]));
     let embed = |x: &[f64]| -> Vec<f64> {
@@ -283,6 +287,15 @@ pub fn calibrate(
     let (mut u, mut gn) =
         search.levenberg_marquardt(&mut cal, Scale::Fine, u, &all, full, &mut report)?;
     stage(&cal, "local search");
+    if plan.damping_path {
+        let path = DampingPath { held: &held, explored: &explored, all: &all };
+        if let Some((u2, gn2)) = search.damping_path(&mut cal, &path, &mut report)? {
+            if point_value(&cal, &u2, n_eff) < point_value(&cal, &u, n_eff) {
+                (u, gn) = (u2, gn2);
+            }
+        }
+        stage(&cal, "lower-damping path");
+    }
     // A valley between an extension's own parameters; one parameter alone
     // is searched by the local search itself.
     let walks = if base.is_some() && own.len() >= 2 { budget.valley_walks } else { 0 };
@@ -318,6 +331,9 @@ struct Stages {
     coarse_starts: usize,
     /// FE runs of the final local search.
     full: usize,
+    /// Whether a second path explores the damping below the baseline's
+    /// estimate ([`Search::damping_path`]).
+    damping_path: bool,
 }
 
 impl Stages {
@@ -329,7 +345,12 @@ impl Stages {
     /// and a local search half as long again (five or more dimensions with a
     /// needle-sharp optimum: 24 runs are three Levenberg–Marquardt steps).
     fn of(budget: &Budget, extension: bool, own: usize) -> Self {
-        let plain = Stages { rounds: budget.rounds, coarse_starts: 0, full: budget.local };
+        let plain = Stages {
+            rounds: budget.rounds,
+            coarse_starts: 0,
+            full: budget.local,
+            damping_path: false,
+        };
         match (extension, own <= COARSE_MAX_DIMS) {
             (false, _) => plain,
             (true, true) => Stages { coarse_starts: COARSE_STARTS, ..plain },
@@ -337,14 +358,37 @@ impl Stages {
                 rounds: budget.rounds + (budget.local / 2) / budget.per_round.max(1),
                 coarse_starts: 1,
                 full: budget.local + budget.local / 2,
+                damping_path: budget.damping_path,
             },
         }
     }
 
-    /// FE runs planned after the design.
-    fn runs(&self, budget: &Budget) -> usize {
-        self.rounds * budget.per_round + self.coarse_starts * (budget.local / 2) + self.full
+    /// FE runs planned after the design of `d` explored dimensions.
+    fn runs(&self, budget: &Budget, d: usize) -> usize {
+        let path = budget.per_dim * (d + 1) + budget.extra + budget.rounds * budget.per_round;
+        self.rounds * budget.per_round
+            + self.coarse_starts * (budget.local / 2)
+            + self.full
+            + if self.damping_path { path + budget.local } else { 0 }
     }
+}
+
+/// −log L at the last evaluation of point `u` (+∞ when never evaluated).
+fn point_value(cal: &Calibration, u: &[f64], n_eff: &[f64]) -> f64 {
+    cal.points.iter().rev().find(|p| p.u == u).map_or(f64::INFINITY, |p| p.neg_log_lik(n_eff))
+}
+
+/// Where a local search ended and its Gauss–Newton matrix there.
+type SearchEnd = (Vec<f64>, Option<DMatrix<f64>>);
+
+/// What the lower-damping path of an extension needs from its calibration.
+struct DampingPath<'p> {
+    /// Where the exploration holds the parameters it does not vary.
+    held: &'p [f64],
+    /// The extension's explored dimensions.
+    explored: &'p [usize],
+    /// Every dimension (the final search's).
+    all: &'p [usize],
 }
 
 /// The unit-cube point an extension's exploration starts from: the
@@ -426,6 +470,66 @@ impl Search<'_, '_> {
             }
         }
         Ok(Some(pick))
+    }
+
+    /// A second path for an extension whose physics dissipates energy: the
+    /// baseline puts the dissipation it misses into viscous damping, and an
+    /// extension explored at the baseline's damping can stop in a basin
+    /// that keeps it. A maximin design over the damping between its prior's
+    /// low end and the baseline's estimate and the explored dimensions,
+    /// emulator rounds (the emulator over every point so far), then the
+    /// local search from the best point of this path. Returns its end and
+    /// Gauss–Newton matrix (None when nothing on the path simulated).
+    fn damping_path(
+        &mut self,
+        cal: &mut Calibration,
+        path: &DampingPath<'_>,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Option<SearchEnd>, ExecutorError> {
+        let Some(damping) = cal.priors.iter().position(|p| p.name == DAMPING_RATIO) else {
+            return Ok(None);
+        };
+        let (budget, n_eff, own) = (self.budget, self.n_eff, cal.free.clone());
+        let dims: Vec<usize> =
+            std::iter::once(damping).chain(path.explored.iter().copied()).collect();
+        let put = |x: &[f64], top: f64| {
+            let mut v = path.held.to_vec();
+            dims.iter().zip(x).for_each(|(j, x)| v[*j] = *x);
+            v[damping] *= top;
+            v
+        };
+        let n = budget.per_dim * dims.len() + budget.extra;
+        let design = draw(DesignMethod::MaximinLhs, n, dims.len(), budget.seed + 7);
+        let us: Vec<Vec<f64>> =
+            (0..design.n()).map(|i| put(design.row(i), path.held[damping])).collect();
+        let first = cal.points.len();
+        for chunk in us.chunks(budget.threads.max(1) * 2) {
+            cal.points.extend(evaluate_points(self.ev, chunk, &mut *self.exec)?);
+            progress(cal.points.len());
+        }
+        let best = |cal: &Calibration| {
+            let f = cal.objective(n_eff);
+            (first..cal.points.len())
+                .filter(|k| f[*k].is_finite())
+                .min_by(|a, b| f[*a].total_cmp(&f[*b]))
+        };
+        cal.free = dims.clone();
+        for round in 0..budget.rounds {
+            let Some(gp) = cal.emulator(n_eff) else { break };
+            let at =
+                best(cal).map(|k| dims.iter().map(|i| cal.points[k].u[*i]).collect::<Vec<_>>());
+            let seed = budget.seed + 100 + round as u64;
+            let next = proposals(&gp, dims.len(), at.as_deref(), budget.per_round, seed);
+            let next: Vec<Vec<f64>> = next.iter().map(|x| put(x, 1.0)).collect();
+            cal.points.extend(evaluate_points(self.ev, &next, &mut *self.exec)?);
+            progress(cal.points.len());
+        }
+        cal.free = own;
+        let Some(k) = best(cal) else { return Ok(None) };
+        let from = cal.points[k].u.clone();
+        let end =
+            self.levenberg_marquardt(cal, Scale::Fine, from, path.all, budget.local, progress)?;
+        Ok(Some(end))
     }
 
     /// Probes the valley a local search stopped in: points at
@@ -734,15 +838,23 @@ mod tests {
     fn an_extension_with_three_parameters_keeps_one_coarse_start_and_searches_longer() {
         let b = Budget::default();
         let baseline = Stages::of(&b, false, 2);
-        assert_eq!(baseline, Stages { rounds: b.rounds, coarse_starts: 0, full: b.local });
+        let plain =
+            Stages { rounds: b.rounds, coarse_starts: 0, full: b.local, damping_path: false };
+        assert_eq!(baseline, plain);
         let two = Stages::of(&b, true, 2);
         assert_eq!(two, Stages { coarse_starts: COARSE_STARTS, ..baseline });
         let three = Stages::of(&b, true, 3);
         assert_eq!(three.coarse_starts, 1);
+        assert!(!three.damping_path && !two.damping_path);
+        let with = |b: &Budget, own| Stages::of(&Budget { damping_path: true, ..*b }, true, own);
+        assert!(with(&b, 3).damping_path && !with(&b, 2).damping_path);
         assert!(three.rounds > two.rounds && three.full > two.full, "{three:?}");
         // The second start's runs go to the rounds; the search grows by half.
         assert_eq!(three.rounds * b.per_round, two.rounds * b.per_round + b.local / 2);
-        assert_eq!(three.runs(&b), two.runs(&b) + b.local / 2);
+        // The damping path: a design over one more dimension, its rounds and
+        // a local search.
+        let path = b.per_dim * 4 + b.extra + b.rounds * b.per_round + b.local;
+        assert_eq!(with(&b, 3).runs(&b, 3), two.runs(&b, 3) + b.local / 2 + path);
         // Rounds of 5 take 10 of the second start's 12 runs.
         let five = Stages::of(&Budget { per_round: 5, ..b }, true, 3);
         assert_eq!(five.rounds, b.rounds + 2);
