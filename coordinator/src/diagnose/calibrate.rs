@@ -552,12 +552,7 @@ impl Search<'_, '_> {
             .map(|t| u.iter().zip(v.iter()).map(|(x, d)| (x + t * d).clamp(0.0, 1.0)).collect())
             .collect();
         let n_eff = self.n_eff;
-        let f_u = cal
-            .points
-            .iter()
-            .rev()
-            .find(|p| p.u == u)
-            .map_or(f64::INFINITY, |p| p.neg_log_lik(n_eff));
+        let f_u = point_value(cal, u, n_eff);
         let points = evaluate_points(self.ev, &probes, self.exec)?;
         let best = points
             .iter()

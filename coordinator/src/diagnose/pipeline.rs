@@ -79,6 +79,28 @@ pub struct CandidateResult {
     pub posterior: Option<Result<VariationalPosterior, String>>,
 }
 
+impl CandidateResult {
+    /// The outcome of `cause` with MDL `mdl` before it is assessed: no
+    /// estimates, errors or simulations yet, not selected.
+    pub fn unassessed(cause: Cause, mdl: Option<Mdl>) -> Self {
+        CandidateResult {
+            cause,
+            mdl,
+            linear_part_mdl: None,
+            estimates: vec![],
+            fe_points: 0,
+            failed_points: 0,
+            calibration_error: f64::NAN,
+            validation_error: f64::NAN,
+            validation_nrmse: f64::NAN,
+            validation_sims: vec![],
+            calibration_sims: vec![],
+            selected: false,
+            posterior: None,
+        }
+    }
+}
+
 /// The whole diagnosis.
 #[derive(Debug, Clone)]
 pub struct Diagnosis {
@@ -334,19 +356,9 @@ fn assess(
     let m = mdl(cal, gp.as_ref(), n_eff, held.geometric);
     let failed = cal.points.iter().filter(|p| p.fit.is_err()).count();
     let mut out = CandidateResult {
-        cause: cal.cause,
-        mdl: m,
-        linear_part_mdl: None,
-        estimates: vec![],
         fe_points: cal.fe_points(),
         failed_points: failed,
-        calibration_error: f64::NAN,
-        validation_error: f64::NAN,
-        validation_nrmse: f64::NAN,
-        validation_sims: vec![],
-        calibration_sims: vec![],
-        selected: false,
-        posterior: None,
+        ..CandidateResult::unassessed(cal.cause, m)
     };
     let Some(best) = cal.best(n_eff) else { return Ok(out) };
     let u = &cal.points[best].u;
@@ -402,29 +414,16 @@ mod tests {
     /// A candidate with MDL `total` and its linear part's `linear`.
     fn scored(cause: Cause, total: f64, linear: Option<f64>) -> CandidateResult {
         let k = cause.priors().len();
-        CandidateResult {
-            cause,
-            mdl: Some(Mdl {
-                fit: total,
-                parametric: 0.0,
-                geometric: 0.0,
-                geometric_se: 0.0,
-                total,
-                k,
-                n_eff: 1e4,
-            }),
-            linear_part_mdl: linear,
-            estimates: vec![],
-            fe_points: 0,
-            failed_points: 0,
-            calibration_error: f64::NAN,
-            validation_error: f64::NAN,
-            validation_nrmse: f64::NAN,
-            validation_sims: vec![],
-            calibration_sims: vec![],
-            selected: false,
-            posterior: None,
-        }
+        let mdl = Mdl {
+            fit: total,
+            parametric: 0.0,
+            geometric: 0.0,
+            geometric_se: 0.0,
+            total,
+            k,
+            n_eff: 1e4,
+        };
+        CandidateResult { linear_part_mdl: linear, ..CandidateResult::unassessed(cause, Some(mdl)) }
     }
 
     #[test]

@@ -182,19 +182,10 @@ pub fn pounding_diagnosis(
         .collect();
     let bundle = Bundle { dir: "sdof-campaign".into(), manifest, runs: data, modal: None };
     let candidate = |cause, sims: &[Simulated], selected| CandidateResult {
-        cause,
-        mdl: None,
-        linear_part_mdl: None,
-        estimates: vec![],
-        fe_points: 0,
-        failed_points: 0,
-        calibration_error: f64::NAN,
-        validation_error: f64::NAN,
-        validation_nrmse: f64::NAN,
         validation_sims: vec![sims[2].clone()],
         calibration_sims: sims[..2].to_vec(),
         selected,
-        posterior: None,
+        ..CandidateResult::unassessed(cause, None)
     };
     let d = Diagnosis {
         bundle: "sdof-campaign".into(),
