@@ -68,7 +68,17 @@ impl FarmExecutor {
         }
         let mut out: Vec<Option<Result<Outcome, String>>> = Vec::with_capacity(points.len());
         let mut missing: Vec<(usize, Vec<f64>)> = Vec::new();
+        // Points repeated within the batch: (batch index, index of the first).
+        let mut repeats: Vec<(usize, usize)> = Vec::new();
         for (k, p) in points.iter().enumerate() {
+            let earlier = p.as_ref().ok().and_then(|params| {
+                missing.iter().find(|(_, q)| same_point(q, params)).map(|(first, _)| *first)
+            });
+            if let Some(first) = earlier {
+                repeats.push((k, first));
+                out.push(None);
+                continue;
+            }
             let stored = match (p, &self.store) {
                 (Ok(params), Some(store)) => store.get(&study.hash, params)?,
                 _ => None,
@@ -87,6 +97,10 @@ impl FarmExecutor {
         }
         for (k, result) in self.run(study, &missing)? {
             out[k] = Some(Ok(result.outcome));
+        }
+        for (k, first) in repeats {
+            self.reused += 1;
+            out[k] = out[first].clone();
         }
         Ok(out
             .into_iter()
@@ -121,6 +135,12 @@ impl FarmExecutor {
         outcome?;
         Ok(results)
     }
+}
+
+/// Whether two parameter vectors are the same point, bit for bit (as the
+/// store keys them).
+fn same_point(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// The session serving `study`, started (and any other one ended) if needed.

@@ -144,3 +144,23 @@ fn farm_matches_threads_and_a_stopped_diagnosis_resumes_from_its_store() {
         resumed.reused()
     );
 }
+
+/// A point repeated within one batch runs once and both entries get its
+/// result, with a store and without.
+#[test]
+fn a_point_repeated_in_a_batch_runs_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = tiny_bundle(dir.path());
+    let priors = Cause::None.priors();
+    let runs = [0usize];
+    let ev =
+        Evaluation { bundle: &b, cause: Cause::None, priors: &priors, runs: &runs, demand: None };
+    let (p, q) = (vec![15.0, 0.05], vec![20.0, 0.04]);
+    for store in [None, Some(dir.path().join("e.db"))] {
+        let mut farm = in_process(store);
+        let out = farm.simulate(&ev, &[p.clone(), q.clone(), p.clone()]).unwrap();
+        assert_eq!((farm.simulated(), farm.reused()), (2, 1));
+        assert_eq!(out[0], out[2]);
+        assert_ne!(out[0], out[1]);
+    }
+}
