@@ -6,6 +6,7 @@
 //! that the likelihood can be re-weighted without re-running anything.
 
 use super::cause::{Cause, Demand, Prior};
+use super::ensemble::difference_step;
 use super::envelope::envelope_neg_log_lik;
 use super::executor::{ExecutorError, FeExecutor, Sims};
 use super::fit::{neg_log_lik, ChannelFit, Evaluation, DAMPING_RATIO};
@@ -595,11 +596,9 @@ impl Search<'_, '_> {
         let mut u = start;
         let mut f;
         let (mut lambda, mut spent, mut gn): (f64, usize, Option<DMatrix<f64>>) = (1e-3, 0, None);
-        // Extension parameters switch contact or slip on and off: a wider
-        // difference step averages over the jumps that a narrow one would see.
         let ext = self.own.len() < cal.priors.len();
         let steps: Vec<f64> =
-            active.iter().map(|i| if ext && self.own.contains(i) { 2e-2 } else { 2e-3 }).collect();
+            active.iter().map(|i| difference_step(ext && self.own.contains(i))).collect();
         while k > 0 && spent + k < local {
             let mut us = vec![u.clone()];
             for (a, i) in active.iter().enumerate() {

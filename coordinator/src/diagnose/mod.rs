@@ -7,6 +7,7 @@
 pub mod calibrate;
 pub mod campaign;
 pub mod cause;
+pub mod ensemble;
 pub mod envelope;
 pub mod evidence;
 pub mod executor;

@@ -5,6 +5,7 @@
 
 use super::calibrate::{calibrate, Budget, Calibration};
 use super::cause::Cause;
+use super::ensemble;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
 use super::fit::{
     effective_sizes, mean_excess_nrmse, mean_nrmse, ChannelFit, Evaluation, Simulated,
@@ -62,14 +63,17 @@ pub struct CandidateResult {
     pub failed_points: usize,
     /// Mean normalised error on the calibration runs at the estimate.
     pub calibration_error: f64,
-    /// Mean normalised error on the validation runs at the estimate, in
-    /// excess of the sensor noise ([`noise_floor`]; set once every
-    /// candidate is in).
+    /// Mean normalised error of the prediction of the validation runs
+    /// ([`validation_sims`](Self::validation_sims)), in excess of the
+    /// sensor noise ([`noise_floor`]; set once every candidate is in).
     pub validation_error: f64,
-    /// Mean raw NRMSE on the validation runs at the estimate (noise included).
+    /// Mean raw NRMSE of that prediction (noise included).
     pub validation_nrmse: f64,
-    /// The validation runs simulated at the estimate.
+    /// The validation runs as the variant predicts them: the pointwise
+    /// median of its ensemble around the estimate ([`ensemble`]).
     pub validation_sims: Vec<Simulated>,
+    /// Ensemble members that simulated the validation runs (0: none did).
+    pub prediction_members: usize,
     /// The calibration runs simulated at the estimate (for the symptoms).
     pub calibration_sims: Vec<Simulated>,
     /// Whether it was selected.
@@ -94,6 +98,7 @@ impl CandidateResult {
             validation_error: f64::NAN,
             validation_nrmse: f64::NAN,
             validation_sims: vec![],
+            prediction_members: 0,
             calibration_sims: vec![],
             selected: false,
             posterior: None,
@@ -394,7 +399,9 @@ fn assess(
         runs: val_runs,
         demand: cal.demand,
     };
-    if let Ok(sims) = one(exec.simulate(&ev, &[cal.theta(best)])?) {
+    let (sims, members) = predict(&ev, cal, u, exec)?;
+    out.prediction_members = members;
+    if let Some(sims) = sims {
         out.validation_nrmse = mean_nrmse(&ev.channels(&sims));
         out.validation_sims = sims;
     }
@@ -405,6 +412,31 @@ fn assess(
         one(exec.simulate(&ev, &[cal.theta(best)])?).unwrap_or_default()
     };
     Ok(out)
+}
+
+/// The prediction of `ev`'s runs by the variant calibrated in `cal` with
+/// estimate `u` (unit cube): the pointwise median over the
+/// [`ensemble::members`] around it, one step of the final search's size
+/// either way along each parameter, simulated in one batch. Returns the
+/// median histories (None when no member simulated) and how many members
+/// made them.
+fn predict(
+    ev: &Evaluation<'_>,
+    cal: &Calibration,
+    u: &[f64],
+    exec: &mut dyn FeExecutor,
+) -> Result<(Option<Vec<Simulated>>, usize), ExecutorError> {
+    let n_base = Cause::None.priors().len();
+    let extension = cal.cause != Cause::None;
+    let steps: Vec<f64> =
+        (0..u.len()).map(|i| ensemble::difference_step(extension && i >= n_base)).collect();
+    let thetas: Vec<Vec<f64>> = ensemble::members(u, &steps)
+        .iter()
+        .map(|m| m.iter().zip(&cal.priors).map(|(x, p)| p.at(*x)).collect())
+        .collect();
+    let sims: Vec<Vec<Simulated>> =
+        exec.simulate(ev, &thetas)?.into_iter().filter_map(Result::ok).collect();
+    Ok((ensemble::pointwise_median(&sims), sims.len()))
 }
 
 #[cfg(test)]

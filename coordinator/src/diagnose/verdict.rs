@@ -18,8 +18,12 @@ pub struct CandidateJson {
     /// MDL (nats); null when the calibration failed.
     pub mdl: Option<f64>,
     /// Mean normalised error on the validation runs, in excess of the
-    /// sensor noise (0: the model misses by the noise alone).
+    /// sensor noise (0: the model misses by the noise alone), of the
+    /// variant's prediction: the pointwise median of its histories over
+    /// `prediction_members` parameter points around the estimate.
     pub validation_error: f64,
+    /// Parameter points whose validation histories made the prediction.
+    pub prediction_members: usize,
     /// Mean raw NRMSE on the validation runs (sensor noise included).
     pub validation_nrmse: f64,
     /// Whether it was chosen.
@@ -184,6 +188,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 cause: c.cause.as_str().into(),
                 mdl: c.mdl.as_ref().map(|m| m.total),
                 validation_error: c.validation_error,
+                prediction_members: c.prediction_members,
                 validation_nrmse: c.validation_nrmse,
                 selected: c.selected,
                 calibration_error: c.calibration_error,
