@@ -141,3 +141,33 @@ fn sweep_0p50g_matches_opensees_with_the_same_gap_closures() {
     assert!(ok);
     assert_eq!(closures, 18);
 }
+
+/// At 0.02 g the friction stays stuck and the gaps open, so the same
+/// ceiling with elastic friction springs at their initial stiffness and
+/// zero-stiffness gap springs is a linear model of the same response:
+/// solved with one Newton iteration per step (its first increment is
+/// exact), it matches OpenSees as closely.
+#[test]
+fn a_linear_model_is_solved_in_one_iteration_per_step_and_matches_opensees() {
+    use fe::materials::MaterialSpec;
+    let dir = verification_dir().join("models");
+    let mut model = read_model(&dir.join("ceiling_2p4_nonlinear_sweep_0p02g.json")).unwrap();
+    for m in &mut model.materials {
+        m.spec = match m.spec {
+            MaterialSpec::Steel01 { e0, .. } => MaterialSpec::Elastic { k: e0 },
+            MaterialSpec::Gap { .. } => MaterialSpec::Elastic { k: 0.0 },
+            ref other => other.clone(),
+        };
+    }
+    let (mut steps, mut iterations) = (0, 0);
+    let h = run_model(&model, &TransientOptions::new(&dir), &mut |s| {
+        steps += 1;
+        iterations += s.iterations;
+    })
+    .unwrap();
+    assert_eq!(iterations, steps);
+    let (header, rows) = reference(&dir.join("ceiling_2p4_nonlinear_sweep_0p02g_history.csv"));
+    let (lines, ok) = compare(&h, &header, &rows);
+    eprintln!("{}", lines.join("\n"));
+    assert!(ok);
+}

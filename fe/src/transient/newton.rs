@@ -7,6 +7,10 @@
 //! 24 springs whose tangent changed ([`super::low_rank`]); beyond that it is
 //! refactorized, or optionally used as an approximate tangent with Krylov
 //! acceleration ([`super::krylov`], `NewtonSettings::stale_max_iter`).
+//! A structure whose springs are all elastic is linear: its first
+//! increment, solved with the exact tangent, is the step's solution, and
+//! the step ends there (a second iteration would only confirm it with a
+//! round-off increment, doubling the solves).
 //!
 //! Equation of motion relative to the base: M ü + C u̇ + F_int(u) = −M r a_g.
 //! Units: N, mm, s, t.
@@ -18,6 +22,7 @@ use super::newmark::NewmarkConstants;
 use super::round_off::{at_round_off, residual_scale};
 use super::springs::{SpringFailure, SpringStates};
 use crate::assembly::Structure;
+use crate::materials::MaterialSpec;
 
 /// Displacement, velocity and acceleration relative to the base (free DOFs).
 #[derive(Debug, Clone, PartialEq)]
@@ -158,6 +163,8 @@ pub struct Dynamics<'a> {
     operator_id: u64,
     krylov: KrylovAccelerator,
     work: Vec<f64>,
+    /// Every spring elastic: one exact increment solves a step.
+    linear: bool,
 }
 
 impl<'a> Dynamics<'a> {
@@ -200,6 +207,7 @@ impl<'a> Dynamics<'a> {
             operator_id: 0,
             krylov: KrylovAccelerator::default(),
             work: vec![0.0; n],
+            linear: s.springs.iter().all(|sp| matches!(sp.material, MaterialSpec::Elastic { .. })),
         }
     }
 
@@ -361,7 +369,8 @@ impl<'a> Dynamics<'a> {
             }
             trial.u.iter_mut().zip(&r).for_each(|(u, d)| *u += d);
             last = norm;
-            if norm < settings.tol_mm || (floor && norm < settings.floor_tol_mm) {
+            let exact = self.linear && op == Operator::Exact;
+            if exact || norm < settings.tol_mm || (floor && norm < settings.floor_tol_mm) {
                 springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
                 nm.update_all(
                     &trial.u,
