@@ -1,7 +1,9 @@
 //! The prediction of a calibrated variant on runs it was not calibrated on:
 //! the pointwise median of its histories at the estimate and one
-//! finite-difference step either side of it along each parameter (the
-//! resolution of the final search, [`difference_step`]).
+//! finite-difference step either side of it along each of the extension's
+//! own parameters (the physics that switches on and off; the resolution of
+//! the final search, [`difference_step`]). The baseline, a linear model,
+//! predicts by its estimate alone.
 //!
 //! Where the model's response depends chaotically on its parameters (a
 //! grid end that strikes the wall within one time step, a support that
@@ -29,11 +31,11 @@ pub fn difference_step(own_of_extension: bool) -> f64 {
 }
 
 /// The ensemble's unit-cube points: `u` first, then `u ± steps[i]` along
-/// each dimension `i`, clamped to the cube (a step clamped back onto `u`,
-/// at a bound, is not repeated).
+/// each dimension `i` with a positive step, clamped to the cube (a step
+/// clamped back onto `u`, at a bound, is not repeated).
 pub fn members(u: &[f64], steps: &[f64]) -> Vec<Vec<f64>> {
     let mut out = vec![u.to_vec()];
-    for (i, h) in steps.iter().enumerate() {
+    for (i, h) in steps.iter().enumerate().filter(|(_, h)| **h > 0.0) {
         for sign in [1.0, -1.0] {
             let mut v = u.to_vec();
             v[i] = (u[i] + sign * h).clamp(0.0, 1.0);
@@ -119,6 +121,9 @@ mod tests {
         let m = members(&[1.0, 0.5], &[0.02, 0.1]);
         assert_eq!(m.len(), 4);
         assert_eq!(m[1], vec![0.98, 0.5]);
+        // A dimension without a step is held.
+        assert_eq!(members(&[0.3, 0.5], &[0.0, 0.1]).len(), 3);
+        assert_eq!(members(&[0.3, 0.5], &[0.0, 0.0]), vec![vec![0.3, 0.5]]);
     }
 
     #[test]

@@ -417,9 +417,10 @@ fn assess(
 /// The prediction of `ev`'s runs by the variant calibrated in `cal` with
 /// estimate `u` (unit cube): the pointwise median over the
 /// [`ensemble::members`] around it, one step of the final search's size
-/// either way along each parameter, simulated in one batch. Returns the
-/// median histories (None when no member simulated) and how many members
-/// made them.
+/// either way along each of an extension's own parameters (the baseline:
+/// its estimate alone), simulated in one batch. Returns the median
+/// histories (None when no member simulated) and how many members made
+/// them.
 fn predict(
     ev: &Evaluation<'_>,
     cal: &Calibration,
@@ -428,8 +429,9 @@ fn predict(
 ) -> Result<(Option<Vec<Simulated>>, usize), ExecutorError> {
     let n_base = Cause::None.priors().len();
     let extension = cal.cause != Cause::None;
+    let own = |i: usize| extension && i >= n_base;
     let steps: Vec<f64> =
-        (0..u.len()).map(|i| ensemble::difference_step(extension && i >= n_base)).collect();
+        (0..u.len()).map(|i| if own(i) { ensemble::difference_step(true) } else { 0.0 }).collect();
     let thetas: Vec<Vec<f64>> = ensemble::members(u, &steps)
         .iter()
         .map(|m| m.iter().zip(&cal.priors).map(|(x, p)| p.at(*x)).collect())
