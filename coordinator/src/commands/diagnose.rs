@@ -8,6 +8,7 @@ use super::sweep::FarmArgs;
 use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
 use coordinator::diagnose::calibrate::Budget;
+use coordinator::diagnose::damping_path::DampingPathUse;
 use coordinator::diagnose::evidence::evidence;
 use coordinator::diagnose::executor::FeExecutor;
 use coordinator::diagnose::farm_executor::{FarmExecutor, FarmPlan};
@@ -48,12 +49,35 @@ pub struct Args {
     /// search stops in).
     #[arg(long, default_value_t = 0)]
     pub valley_walks: usize,
-    /// Also calibrate connection hysteresis along a second path with the
-    /// viscous damping explored below the baseline's estimate (about 50 more
-    /// FE runs; for strong hysteresis, whose dissipation the baseline takes
-    /// for damping).
-    #[arg(long)]
-    pub damping_path: bool,
+    /// When connection hysteresis is also calibrated along a second path
+    /// with the viscous damping explored below the baseline's estimate
+    /// (about 50 more FE runs; for strong hysteresis, whose dissipation the
+    /// baseline takes for damping): `auto` when its first path is within
+    /// 1000 nats of the best variant before it and the campaign is small
+    /// (grid modules x calibration samples at most 250 000).
+    #[arg(long, value_enum, default_value_t = DampingPathArg::Auto)]
+    pub damping_path: DampingPathArg,
+}
+
+/// `--damping-path` choices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum DampingPathArg {
+    /// Never.
+    Never,
+    /// When connection hysteresis contends for the verdict.
+    Auto,
+    /// Always.
+    Always,
+}
+
+impl DampingPathArg {
+    fn to_use(self) -> DampingPathUse {
+        match self {
+            DampingPathArg::Never => DampingPathUse::Never,
+            DampingPathArg::Auto => DampingPathUse::WhenContending,
+            DampingPathArg::Always => DampingPathUse::Always,
+        }
+    }
 }
 
 /// Runs `diagnose`.
@@ -65,7 +89,7 @@ pub fn run(a: Args) -> Result<()> {
         per_dim: a.points_per_parameter,
         seed: a.seed,
         valley_walks: a.valley_walks,
-        damping_path: a.damping_path,
+        damping_path: a.damping_path.to_use(),
         ..Budget::default()
     };
     let plan = FarmPlan {

@@ -5,11 +5,13 @@
 //! model itself evaluated. Every FE evaluation is kept (its channel fits) so
 //! that the likelihood can be re-weighted without re-running anything.
 
+use super::campaign_size::{campaign_work, is_large};
 use super::cause::{Cause, Demand, Prior};
+use super::damping_path::{DampingPath, DampingPathUse};
 use super::ensemble::difference_step;
 use super::envelope::envelope_neg_log_lik;
 use super::executor::{ExecutorError, FeExecutor, Sims};
-use super::fit::{neg_log_lik, ChannelFit, Evaluation, DAMPING_RATIO};
+use super::fit::{neg_log_lik, ChannelFit, Evaluation};
 use crate::bundle::Bundle;
 use crate::design::draw;
 use crate::study::DesignMethod;
@@ -37,9 +39,9 @@ pub struct Budget {
     /// Walks along the least-determined direction after an extension's
     /// local search (one costs ~8 to 14 FE runs).
     pub valley_walks: usize,
-    /// Whether an extension with three or more parameters of its own also
+    /// When an extension with three or more parameters of its own also
     /// takes the lower-damping path ([`Search::damping_path`], ~50 FE runs).
-    pub damping_path: bool,
+    pub damping_path: DampingPathUse,
 }
 
 impl Default for Budget {
@@ -53,7 +55,7 @@ impl Default for Budget {
             threads: 2,
             seed: 1,
             valley_walks: 0,
-            damping_path: false,
+            damping_path: DampingPathUse::WhenContending,
         }
     }
 }
@@ -202,17 +204,31 @@ fn judge(ev: &Evaluation<'_>, u: &[f64], sims: Sims) -> Full {
     }
 }
 
+/// What an extension's calibration takes from the variants calibrated
+/// before it.
+#[derive(Debug, Clone, Copy)]
+pub struct Around<'a> {
+    /// The calibrated baseline's estimate (unit cube).
+    pub base: &'a [f64],
+    /// The calibrated baseline's demand the extension's parameters are
+    /// scaled by.
+    pub demand: Demand,
+    /// The lowest −log L (same weights) any variant before it reached.
+    pub rival: f64,
+}
+
 /// Calibrates `cause` on runs `runs` of `bundle`; `n_eff` weights the
-/// objective; `progress` hears (points done, points planned). With `base`
-/// (the baseline's estimate, unit cube) an extension is calibrated around
-/// the calibrated baseline, so that it nests it and its budget grows with
+/// objective; `progress` hears (points done, points planned). With
+/// `around` (the calibrated baseline) an extension is calibrated around
+/// the baseline's estimate, so that it nests it and its budget grows with
 /// its own dimension only: its design and emulator rounds vary the
-/// parameters without a [`Prior::reference`] (the baseline's held at
-/// `base`, the shape parameters at their reference: the seed's model, which
-/// the onset of the extra physics is sought in first), its coarse starts
-/// move all of its own, and the final local search every parameter (the
-/// runs of each stage: [`Stages`]); the
-/// valley walks ([`Budget::valley_walks`]) follow the extension's own.
+/// parameters without a [`Prior::reference`] (the baseline's held at its
+/// estimate, the shape parameters at their reference: the seed's model,
+/// which the onset of the extra physics is sought in first), its coarse
+/// starts move all of its own, and the final local search every parameter
+/// (the runs of each stage: [`Stages`]); the lower-damping path
+/// ([`Budget::damping_path`]) compares its first path with `around.rival`;
+/// the valley walks ([`Budget::valley_walks`]) follow the extension's own.
 /// `exec` runs the FE model.
 #[allow(clippy::too_many_arguments)] // each a different input of one calibration
 pub fn calibrate(
@@ -221,14 +237,12 @@ pub fn calibrate(
     runs: &[usize],
     n_eff: &[f64],
     budget: &Budget,
-    base: Option<(&[f64], Demand)>,
+    around: Option<Around<'_>>,
     exec: &mut dyn FeExecutor,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Calibration, ExecutorError> {
-    let (base, demand) = match base {
-        Some((u, d)) => (Some(u), Some(d)),
-        None => (None, None),
-    };
+    let base = around.map(|a| a.base);
+    let demand = around.map(|a| a.demand);
     let priors = cause.priors();
     let fixed = base.map_or(0, <[f64]>::len);
     let own: Vec<usize> = (fixed..priors.len()).collect();
@@ -236,7 +250,8 @@ pub fn calibrate(
         own.iter().copied().filter(|i| base.is_none() || priors[*i].reference.is_none()).collect();
     let d = explored.len();
     let ev = Evaluation { bundle, cause, priors: &priors, runs, demand };
-    let plan = Stages::of(budget, base.is_some(), own.len());
+    let work = campaign_work(bundle, runs);
+    let plan = Stages::of(budget, base.is_some(), own.len(), is_large(work));
     let n0 = budget.per_dim * d + budget.extra;
     let planned = n0 + plan.runs(budget, d);
     let design = draw(DesignMethod::MaximinLhs, n0, d, budget.seed);
@@ -273,7 +288,8 @@ pub fn calibrate(
         tracing::debug!(cause = cause.as_str(), stage = name, fe_points = cal.points.len());
     };
     stage(&cal, "design and emulator rounds");
-    let mut report = |done| progress(done, planned);
+    let planned = std::cell::Cell::new(planned);
+    let mut report = |done| progress(done, planned.get());
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
     let start = match plan.coarse_starts {
         0 => None,
@@ -288,7 +304,13 @@ pub fn calibrate(
     let (mut u, mut gn) =
         search.levenberg_marquardt(&mut cal, Scale::Fine, u, &all, full, &mut report)?;
     stage(&cal, "local search");
-    if plan.damping_path {
+    let (first_path, rival) =
+        (point_value(&cal, &u, n_eff), around.map_or(f64::INFINITY, |a| a.rival));
+    tracing::debug!(cause = cause.as_str(), first_path, rival, work, "lower-damping path?");
+    if plan.damping_path.takes(first_path, rival, work) {
+        if plan.damping_path != DampingPathUse::Always {
+            planned.set(planned.get() + DampingPath::runs(budget, d));
+        }
         let path = DampingPath { held: &held, explored: &explored, all: &all };
         if let Some((u2, gn2)) = search.damping_path(&mut cal, &path, &mut report)? {
             if point_value(&cal, &u2, n_eff) < point_value(&cal, &u, n_eff) {
@@ -332,9 +354,9 @@ struct Stages {
     coarse_starts: usize,
     /// FE runs of the final local search.
     full: usize,
-    /// Whether a second path explores the damping below the baseline's
+    /// When a second path explores the damping below the baseline's
     /// estimate ([`Search::damping_path`]).
-    damping_path: bool,
+    damping_path: DampingPathUse,
 }
 
 impl Stages {
@@ -344,17 +366,21 @@ impl Stages {
     /// [`COARSE_MAX_DIMS`]: [`COARSE_STARTS`] coarse starts too. One with
     /// more: one coarse start, the other start's runs in emulator rounds,
     /// and a local search half as long again (five or more dimensions with a
-    /// needle-sharp optimum: 24 runs are three Levenberg–Marquardt steps).
-    fn of(budget: &Budget, extension: bool, own: usize) -> Self {
+    /// needle-sharp optimum: 24 runs are three Levenberg–Marquardt steps);
+    /// in a `large` campaign ([`super::campaign_size`]) neither.
+    fn of(budget: &Budget, extension: bool, own: usize, large: bool) -> Self {
         let plain = Stages {
             rounds: budget.rounds,
             coarse_starts: 0,
             full: budget.local,
-            damping_path: false,
+            damping_path: DampingPathUse::Never,
         };
         match (extension, own <= COARSE_MAX_DIMS) {
             (false, _) => plain,
             (true, true) => Stages { coarse_starts: COARSE_STARTS, ..plain },
+            (true, false) if large => {
+                Stages { coarse_starts: 1, damping_path: budget.damping_path, ..plain }
+            }
             (true, false) => Stages {
                 rounds: budget.rounds + (budget.local / 2) / budget.per_round.max(1),
                 coarse_starts: 1,
@@ -364,13 +390,14 @@ impl Stages {
         }
     }
 
-    /// FE runs planned after the design of `d` explored dimensions.
+    /// FE runs planned after the design of `d` explored dimensions (the
+    /// damping path's only when it is always taken).
     fn runs(&self, budget: &Budget, d: usize) -> usize {
-        let path = budget.per_dim * (d + 1) + budget.extra + budget.rounds * budget.per_round;
-        self.rounds * budget.per_round
-            + self.coarse_starts * (budget.local / 2)
-            + self.full
-            + if self.damping_path { path + budget.local } else { 0 }
+        let path = match self.damping_path {
+            DampingPathUse::Always => DampingPath::runs(budget, d),
+            _ => 0,
+        };
+        self.rounds * budget.per_round + self.coarse_starts * (budget.local / 2) + self.full + path
     }
 }
 
@@ -380,17 +407,7 @@ fn point_value(cal: &Calibration, u: &[f64], n_eff: &[f64]) -> f64 {
 }
 
 /// Where a local search ended and its Gauss–Newton matrix there.
-type SearchEnd = (Vec<f64>, Option<DMatrix<f64>>);
-
-/// What the lower-damping path of an extension needs from its calibration.
-struct DampingPath<'p> {
-    /// Where the exploration holds the parameters it does not vary.
-    held: &'p [f64],
-    /// The extension's explored dimensions.
-    explored: &'p [usize],
-    /// Every dimension (the final search's).
-    all: &'p [usize],
-}
+pub(super) type SearchEnd = (Vec<f64>, Option<DMatrix<f64>>);
 
 /// The unit-cube point an extension's exploration starts from: the
 /// baseline's estimate `base` on its dimensions, each shape parameter at its
@@ -471,66 +488,6 @@ impl Search<'_, '_> {
             }
         }
         Ok(Some(pick))
-    }
-
-    /// A second path for an extension whose physics dissipates energy: the
-    /// baseline puts the dissipation it misses into viscous damping, and an
-    /// extension explored at the baseline's damping can stop in a basin
-    /// that keeps it. A maximin design over the damping between its prior's
-    /// low end and the baseline's estimate and the explored dimensions,
-    /// emulator rounds (the emulator over every point so far), then the
-    /// local search from the best point of this path. Returns its end and
-    /// Gauss–Newton matrix (None when nothing on the path simulated).
-    fn damping_path(
-        &mut self,
-        cal: &mut Calibration,
-        path: &DampingPath<'_>,
-        progress: &mut dyn FnMut(usize),
-    ) -> Result<Option<SearchEnd>, ExecutorError> {
-        let Some(damping) = cal.priors.iter().position(|p| p.name == DAMPING_RATIO) else {
-            return Ok(None);
-        };
-        let (budget, n_eff, own) = (self.budget, self.n_eff, cal.free.clone());
-        let dims: Vec<usize> =
-            std::iter::once(damping).chain(path.explored.iter().copied()).collect();
-        let put = |x: &[f64], top: f64| {
-            let mut v = path.held.to_vec();
-            dims.iter().zip(x).for_each(|(j, x)| v[*j] = *x);
-            v[damping] *= top;
-            v
-        };
-        let n = budget.per_dim * dims.len() + budget.extra;
-        let design = draw(DesignMethod::MaximinLhs, n, dims.len(), budget.seed + 7);
-        let us: Vec<Vec<f64>> =
-            (0..design.n()).map(|i| put(design.row(i), path.held[damping])).collect();
-        let first = cal.points.len();
-        for chunk in us.chunks(budget.threads.max(1) * 2) {
-            cal.points.extend(evaluate_points(self.ev, chunk, &mut *self.exec)?);
-            progress(cal.points.len());
-        }
-        let best = |cal: &Calibration| {
-            let f = cal.objective(n_eff);
-            (first..cal.points.len())
-                .filter(|k| f[*k].is_finite())
-                .min_by(|a, b| f[*a].total_cmp(&f[*b]))
-        };
-        cal.free = dims.clone();
-        for round in 0..budget.rounds {
-            let Some(gp) = cal.emulator(n_eff) else { break };
-            let at =
-                best(cal).map(|k| dims.iter().map(|i| cal.points[k].u[*i]).collect::<Vec<_>>());
-            let seed = budget.seed + 100 + round as u64;
-            let next = proposals(&gp, dims.len(), at.as_deref(), budget.per_round, seed);
-            let next: Vec<Vec<f64>> = next.iter().map(|x| put(x, 1.0)).collect();
-            cal.points.extend(evaluate_points(self.ev, &next, &mut *self.exec)?);
-            progress(cal.points.len());
-        }
-        cal.free = own;
-        let Some(k) = best(cal) else { return Ok(None) };
-        let from = cal.points[k].u.clone();
-        let end =
-            self.levenberg_marquardt(cal, Scale::Fine, from, path.all, budget.local, progress)?;
-        Ok(Some(end))
     }
 
     /// Probes the valley a local search stopped in: points at
@@ -754,7 +711,13 @@ pub fn sloppy_direction(gn: &DMatrix<f64>, free: &[usize]) -> Option<DVector<f64
 /// Points where the emulator's mean is lowest: the minimiser from a dense
 /// quasi-random search polished by a shrinking pattern search, then the
 /// best points of the search that are not too close to each other.
-fn proposals(gp: &Gp, d: usize, best: Option<&[f64]>, n: usize, seed: u64) -> Vec<Vec<f64>> {
+pub(super) fn proposals(
+    gp: &Gp,
+    d: usize,
+    best: Option<&[f64]>,
+    n: usize,
+    seed: u64,
+) -> Vec<Vec<f64>> {
     let cand = draw(DesignMethod::Sobol, 512, d, seed);
     let mut pts: Vec<Vec<f64>> = (0..cand.n()).map(|i| cand.row(i).to_vec()).collect();
     if let Some(b) = best {
@@ -831,17 +794,22 @@ mod tests {
     #[test]
     fn an_extension_with_three_parameters_keeps_one_coarse_start_and_searches_longer() {
         let b = Budget::default();
-        let baseline = Stages::of(&b, false, 2);
+        let baseline = Stages::of(&b, false, 2, false);
+        let never = DampingPathUse::Never;
         let plain =
-            Stages { rounds: b.rounds, coarse_starts: 0, full: b.local, damping_path: false };
+            Stages { rounds: b.rounds, coarse_starts: 0, full: b.local, damping_path: never };
         assert_eq!(baseline, plain);
-        let two = Stages::of(&b, true, 2);
+        let two = Stages::of(&b, true, 2, false);
         assert_eq!(two, Stages { coarse_starts: COARSE_STARTS, ..baseline });
-        let three = Stages::of(&b, true, 3);
+        let three = Stages::of(&b, true, 3, false);
         assert_eq!(three.coarse_starts, 1);
-        assert!(!three.damping_path && !two.damping_path);
-        let with = |b: &Budget, own| Stages::of(&Budget { damping_path: true, ..*b }, true, own);
-        assert!(with(&b, 3).damping_path && !with(&b, 2).damping_path);
+        assert_eq!((three.damping_path, two.damping_path), (b.damping_path, never));
+        let b = Budget { damping_path: never, ..b };
+        let three = Stages::of(&b, true, 3, false);
+        let always = DampingPathUse::Always;
+        let with =
+            |b: &Budget, own| Stages::of(&Budget { damping_path: always, ..*b }, true, own, false);
+        assert!(with(&b, 3).damping_path == always && with(&b, 2).damping_path == never);
         assert!(three.rounds > two.rounds && three.full > two.full, "{three:?}");
         // The second start's runs go to the rounds; the search grows by half.
         assert_eq!(three.rounds * b.per_round, two.rounds * b.per_round + b.local / 2);
@@ -850,8 +818,20 @@ mod tests {
         let path = b.per_dim * 4 + b.extra + b.rounds * b.per_round + b.local;
         assert_eq!(with(&b, 3).runs(&b, 3), two.runs(&b, 3) + b.local / 2 + path);
         // Rounds of 5 take 10 of the second start's 12 runs.
-        let five = Stages::of(&Budget { per_round: 5, ..b }, true, 3);
+        let five = Stages::of(&Budget { per_round: 5, ..b }, true, 3, false);
         assert_eq!(five.rounds, b.rounds + 2);
+    }
+
+    #[test]
+    fn in_a_large_campaign_three_parameters_get_the_plain_stages_and_one_start() {
+        let b = Budget::default();
+        let large = Stages::of(&b, true, 3, true);
+        let plain = Stages::of(&b, false, 3, true);
+        assert_eq!(large, Stages { coarse_starts: 1, damping_path: b.damping_path, ..plain });
+        assert!(large.runs(&b, 3) + 24 == Stages::of(&b, true, 3, false).runs(&b, 3));
+        // Two parameters and the baseline keep their stages.
+        assert_eq!(Stages::of(&b, true, 2, true), Stages::of(&b, true, 2, false));
+        assert_eq!(plain, Stages::of(&b, false, 3, false));
     }
 
     #[test]

@@ -6,7 +6,9 @@
 
 pub mod calibrate;
 pub mod campaign;
+pub mod campaign_size;
 pub mod cause;
+pub mod damping_path;
 pub mod ensemble;
 pub mod envelope;
 pub mod evidence;

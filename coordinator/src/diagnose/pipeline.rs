@@ -3,7 +3,7 @@
 //! pick the cause (`none` when no extension earns its complexity), and
 //! measure each calibrated variant on the validation runs.
 
-use super::calibrate::{calibrate, Budget, Calibration};
+use super::calibrate::{calibrate, Around, Budget, Calibration};
 use super::cause::Cause;
 use super::ensemble;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
@@ -199,16 +199,15 @@ pub fn diagnose_with(
     let mut linear_parts: Vec<Option<Calibration>> = vec![None];
     for c in opts.candidates.iter().copied().filter(|c| *c != Cause::None) {
         let stage = format!("calibrating {}", c.as_str());
-        let cal = calibrate(
-            b,
-            c,
-            &cal_runs,
-            &n_eff0,
-            &opts.budget,
-            Some((&base_u, demand)),
-            exec,
-            &mut |d, n| progress(&stage, d, n),
-        )?;
+        let rival = cals
+            .iter()
+            .filter_map(|k| k.best(&n_eff0).map(|i| k.points[i].neg_log_lik(&n_eff0)))
+            .fold(f64::INFINITY, f64::min);
+        let around = Around { base: &base_u, demand, rival };
+        let cal =
+            calibrate(b, c, &cal_runs, &n_eff0, &opts.budget, Some(around), exec, &mut |d, n| {
+                progress(&stage, d, n)
+            })?;
         let stage = format!("linear part of {}", c.as_str());
         let planned = opts.budget.local / 2;
         let part =
