@@ -55,29 +55,8 @@ pub struct Args {
     /// baseline takes for damping): `auto` when its first path is within
     /// 1000 nats of the best variant before it and the campaign is small
     /// (grid modules x calibration samples at most 250 000).
-    #[arg(long, value_enum, default_value_t = DampingPathArg::Auto)]
-    pub damping_path: DampingPathArg,
-}
-
-/// `--damping-path` choices.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum DampingPathArg {
-    /// Never.
-    Never,
-    /// When connection hysteresis contends for the verdict.
-    Auto,
-    /// Always.
-    Always,
-}
-
-impl DampingPathArg {
-    fn to_use(self) -> DampingPathUse {
-        match self {
-            DampingPathArg::Never => DampingPathUse::Never,
-            DampingPathArg::Auto => DampingPathUse::WhenContending,
-            DampingPathArg::Always => DampingPathUse::Always,
-        }
-    }
+    #[arg(long, value_enum, default_value_t = DampingPathUse::WhenContending)]
+    pub damping_path: DampingPathUse,
 }
 
 /// Runs `diagnose`.
@@ -89,7 +68,7 @@ pub fn run(a: Args) -> Result<()> {
         per_dim: a.points_per_parameter,
         seed: a.seed,
         valley_walks: a.valley_walks,
-        damping_path: a.damping_path.to_use(),
+        damping_path: a.damping_path,
         ..Budget::default()
     };
     let plan = FarmPlan {

@@ -12,7 +12,7 @@
 //! [`CONTENTION_NATS`] of the best variant calibrated before it, in a
 //! campaign that is not large ([`super::campaign_size::LARGE_WORK`]).
 
-use super::calibrate::{evaluate_points, proposals, Calibration, Scale, Search, SearchEnd};
+use super::calibrate::{evaluate_points, proposals, Budget, Calibration, Scale, Search, SearchEnd};
 use super::campaign_size::is_large;
 use super::executor::ExecutorError;
 use super::fit::DAMPING_RATIO;
@@ -20,8 +20,8 @@ use crate::design::draw;
 use crate::study::DesignMethod;
 
 /// When an extension with three or more parameters of its own takes the
-/// lower-damping path.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// lower-damping path (`--damping-path never|auto|always`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum DampingPathUse {
     /// Never.
     Never,
@@ -29,6 +29,11 @@ pub enum DampingPathUse {
     /// −log L of the variants calibrated before it and the campaign's
     /// [`super::campaign_size::campaign_work`] is at most [`super::campaign_size::LARGE_WORK`].
     #[default]
+    #[value(
+        name = "auto",
+        help = "When its first path ends within 1000 nats of the best variant before it, \
+                in a campaign that is not large"
+    )]
     WhenContending,
     /// Always.
     Always,
@@ -67,7 +72,7 @@ pub(super) struct DampingPath<'p> {
 impl DampingPath<'_> {
     /// FE runs the path plans: a design over the damping and the `d`
     /// explored dimensions, its emulator rounds and a local search.
-    pub(super) fn runs(budget: &super::calibrate::Budget, d: usize) -> usize {
+    pub(super) fn runs(budget: &Budget, d: usize) -> usize {
         budget.per_dim * (d + 1) + budget.extra + budget.rounds * budget.per_round + budget.local
     }
 }

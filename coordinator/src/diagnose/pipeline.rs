@@ -199,10 +199,7 @@ pub fn diagnose_with(
     let mut linear_parts: Vec<Option<Calibration>> = vec![None];
     for c in opts.candidates.iter().copied().filter(|c| *c != Cause::None) {
         let stage = format!("calibrating {}", c.as_str());
-        let rival = cals
-            .iter()
-            .filter_map(|k| k.best(&n_eff0).map(|i| k.points[i].neg_log_lik(&n_eff0)))
-            .fold(f64::INFINITY, f64::min);
+        let rival = cals.iter().flat_map(|k| k.objective(&n_eff0)).fold(f64::INFINITY, f64::min);
         let around = Around { base: &base_u, demand, rival };
         let cal =
             calibrate(b, c, &cal_runs, &n_eff0, &opts.budget, Some(around), exec, &mut |d, n| {
