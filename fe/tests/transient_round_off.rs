@@ -5,7 +5,8 @@
 //! absolute test ‖Δu‖₂ < 1e-10 mm the increments wander at the round-off
 //! floor (1e-10–1e-9 mm) and steps iterate to the limit and subdivide; with
 //! the round-off residual test every step converges in a few iterations and
-//! the histories agree.
+//! the histories agree. At ordinary stiffness the round-off test only ends
+//! steps one solve earlier.
 
 mod common;
 
@@ -119,13 +120,22 @@ fn stiff_splices_converge_without_subdividing() {
 }
 
 #[test]
-fn ordinary_stiffness_never_needs_the_floor() {
+fn at_ordinary_stiffness_the_floor_ends_steps_early_on_the_same_motion() {
     // At the generator's 1e7 N/mm the absolute test converges every step
-    // and the round-off test changes nothing.
+    // too; the round-off test ends a step once the state after an increment
+    // is in equilibrium, skipping the solve that would confirm it, and the
+    // motion is the same to round-off.
     let m = stiff_splice_model(1e7);
     let (h, substeps, iterations) = run(&m, NewtonSettings::default(), 6).unwrap();
-    let (h_abs, _, iterations_abs) = run(&m, absolute_only(), 6).unwrap();
-    assert_eq!(substeps, STEPS);
-    assert_eq!(iterations, iterations_abs);
-    assert_eq!(h.rows, h_abs.rows);
+    let (h_abs, substeps_abs, iterations_abs) = run(&m, absolute_only(), 6).unwrap();
+    eprintln!("1e7 N/mm splices: {iterations} iterations; absolute test only: {iterations_abs}");
+    assert_eq!((substeps, substeps_abs), (STEPS, STEPS));
+    assert!(iterations < iterations_abs, "{iterations} vs {iterations_abs} iterations");
+    let peak = h.rows.iter().flat_map(|r| r[2..].iter()).fold(0.0f64, |a, x| a.max(x.abs()));
+    assert_eq!(h.rows.len(), h_abs.rows.len());
+    for (a, b) in h.rows.iter().zip(&h_abs.rows) {
+        for (x, y) in a[2..].iter().zip(&b[2..]) {
+            assert!((x - y).abs() < 1e-9 * peak, "{x} vs {y} (peak {peak} mm)");
+        }
+    }
 }
