@@ -1,8 +1,8 @@
 //! `ceilfarm diagnose` on the farm, end to end, on the tiny test campaign
 //! (configs/synth/tiny-test.toml): two `ceilfarm worker` processes over
 //! iceoryx2 or zenoh write the same diagnosis.json as the in-process farm, and a
-//! diagnosis killed with SIGKILL then run again runs only the evaluations
-//! its store lacks and writes the same diagnosis.json.
+//! diagnosis killed with SIGKILL then run again runs only the run
+//! simulations its store lacks and writes the same diagnosis.json.
 
 mod common;
 use common::*;
@@ -28,14 +28,15 @@ fn diagnose(bundle: &Path, out: &Path, extra: &[&str]) -> (String, f64) {
     (String::from_utf8_lossy(&o.stderr).into_owned(), t0.elapsed().as_secs_f64())
 }
 
-/// (run now, re-used) from the `store:` line of `diagnose`.
-fn spent(stderr: &str) -> (usize, usize) {
+/// (evaluations run now, re-used, run simulations stored now) from the
+/// `store:` line of `diagnose`.
+fn spent(stderr: &str) -> (usize, usize, usize) {
     let line = stderr.lines().find(|l| l.starts_with("store: ")).expect("a store line");
     let num = |after: &str| -> usize {
         let tail = &line[line.find(after).expect(after) + after.len()..];
         tail.split_whitespace().next().unwrap().parse().unwrap()
     };
-    (num("("), num("workers, "))
+    (num("("), num("workers, "), num("re-used; "))
 }
 
 fn stored(db: &Path) -> usize {
@@ -51,7 +52,7 @@ fn killed_diagnosis_runs_only_what_its_store_lacks() {
     let b = bundle(dir.path());
     let whole = dir.path().join("whole");
     let (err, wall) = diagnose(&b, &whole, &[]);
-    let (distinct, _) = spent(&err);
+    let (_, _, runs) = spent(&err);
     let out = dir.path().join("killed");
     let db = out.join("evaluations.db");
     let mut child = Command::new(bin())
@@ -60,20 +61,20 @@ fn killed_diagnosis_runs_only_what_its_store_lacks() {
         .spawn()
         .unwrap();
     let t0 = Instant::now();
-    while stored(&db) < distinct / 3 && t0.elapsed() < Duration::from_secs(300) {
+    while stored(&db) < runs / 3 && t0.elapsed() < Duration::from_secs(300) {
         std::thread::sleep(Duration::from_millis(5));
     }
     child.kill().unwrap(); // SIGKILL
     child.wait().unwrap();
     let before = stored(&db);
-    assert!(before > 0 && before < distinct, "kill landed outside: {before} of {distinct}");
+    assert!(before > 0 && before < runs, "kill landed outside: {before} of {runs}");
     assert!(!out.join("diagnosis.json").exists());
     let (err, _) = diagnose(&b, &out, &[]);
-    let (ran, _) = spent(&err);
+    let (_, _, ran) = spent(&err);
     eprintln!(
-        "{distinct} distinct evaluations in {wall:.1} s; killed at {before}, resume ran {ran}"
+        "{runs} distinct run simulations in {wall:.1} s; killed at {before}, resume ran {ran}"
     );
-    assert_eq!(ran, distinct - before, "the resumed diagnosis ran only what was missing");
+    assert_eq!(ran, runs - before, "the resumed diagnosis ran only what was missing");
     assert_eq!(
         std::fs::read_to_string(out.join("diagnosis.json")).unwrap(),
         std::fs::read_to_string(whole.join("diagnosis.json")).unwrap()
@@ -158,7 +159,7 @@ fn a_worker_killed_mid_diagnosis_loses_nothing() {
     let b = bundle(dir.path());
     let local = dir.path().join("in-process");
     let (err, _) = diagnose(&b, &local, &[]);
-    let (distinct, _) = spent(&err);
+    let (distinct, _, runs) = spent(&err);
     let prefix = format!("cfdiagkill{}", std::process::id());
     let mut workers = Workers::start("iceoryx2", &prefix, 2);
     let out = dir.path().join("iceoryx2");
@@ -171,7 +172,7 @@ fn a_worker_killed_mid_diagnosis_loses_nothing() {
         .unwrap();
     let db = out.join("evaluations.db");
     let t0 = Instant::now();
-    while stored(&db) < distinct / 3 && t0.elapsed() < Duration::from_secs(300) {
+    while stored(&db) < runs / 3 && t0.elapsed() < Duration::from_secs(300) {
         std::thread::sleep(Duration::from_millis(5));
     }
     workers.0[0].kill().unwrap(); // SIGKILL
@@ -180,8 +181,9 @@ fn a_worker_killed_mid_diagnosis_loses_nothing() {
     let o = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "diagnose failed after a worker was killed: {err}");
-    assert!(killed_at < distinct, "the kill landed after the diagnosis");
+    assert!(killed_at < runs, "the kill landed after the diagnosis");
     assert_eq!(spent(&err).0, distinct, "every evaluation ran once");
+    assert_eq!(spent(&err).2, runs, "every run simulation ran once");
     assert_eq!(
         std::fs::read_to_string(out.join("diagnosis.json")).unwrap(),
         std::fs::read_to_string(local.join("diagnosis.json")).unwrap()

@@ -13,14 +13,17 @@
 //!
 //! Parameters: the names of `fe::generator::parameters_for` the variant
 //! (mm², MPa, mm⁴, N/mm, N, -) plus `damping_ratio`; a name may repeat (the
-//! last value wins), the others sit at their prior mid-points.
+//! last value wins), the others sit at their prior mid-points. A study may
+//! also name `run_index` ([`RUN_INDEX`]): each task then simulates the one
+//! run of that (0-based) index, so that the runs of one parameter point
+//! spread over the workers instead of queueing on one.
 //!
-//! Outputs: one history per (run, sensor), named `<run>/<sensor>`, one
-//! channel `<sensor>_accel_m_s2` (absolute acceleration) or
+//! Outputs: one history per (run, sensor) simulated, named `<run>/<sensor>`,
+//! one channel `<sensor>_accel_m_s2` (absolute acceleration) or
 //! `<sensor>_disp_m` (relative displacement), at the run's step; scalars
 //! `<group>_deformation_mm` and `<group>_force_n`: the peak |deformation|
-//! and |force| of each spring group over every run (0 when the variant has
-//! no spring in the group).
+//! and |force| of each spring group over the runs simulated (0 when the
+//! variant has no spring in the group).
 
 use crate::ceiling::sensors::{id_ok, SensorOptions};
 use crate::ceiling::{check_damping, check_sensors, DAMPING_RATIO};
@@ -35,6 +38,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 const KIND: &str = "ceiling-campaign";
+
+/// The parameter that picks the one run a task simulates (0-based index
+/// into the options' runs).
+pub const RUN_INDEX: &str = "run_index";
 
 /// `[model]` options of `ceiling-campaign`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -115,7 +122,7 @@ impl CeilingCampaign {
     pub fn new(o: CampaignOptions, names: &[String]) -> Result<Self, ModelError> {
         let spec = CeilingSpec::from_toml_str(&o.spec_toml, Path::new("[model] spec_toml"))
             .map_err(|e| invalid(e.to_string()))?;
-        let study_names = names.iter().filter(|n| *n != DAMPING_RATIO);
+        let study_names = names.iter().filter(|n| *n != DAMPING_RATIO && *n != RUN_INDEX);
         let hint = format!(" (or `{DAMPING_RATIO}`, the Rayleigh damping ratio)");
         let base = base_parameters(&spec, &BTreeMap::new(), study_names, &hint).map_err(invalid)?;
         check_damping(o.damping_ratio).map_err(|m| invalid(format!("damping_ratio = {m}")))?;
@@ -201,6 +208,20 @@ fn check_run(k: usize, run: &CampaignRun, ids: &mut BTreeSet<String>) -> Result<
     Ok(())
 }
 
+impl CeilingCampaign {
+    /// The run a `run_index` value names.
+    fn run_at(&self, value: f64) -> Result<&Prepared, RunError> {
+        let n = self.runs.len();
+        let ok = value.fract() == 0.0 && value >= 0.0 && value < n as f64;
+        ok.then(|| &self.runs[value as usize]).ok_or_else(|| {
+            RunError::Input(format!(
+                "{RUN_INDEX} = {value}: expected a whole number from 0 to {}",
+                n - 1
+            ))
+        })
+    }
+}
+
 impl Model for CeilingCampaign {
     fn output_names(&self) -> Vec<String> {
         let peaks = self.opts.spring_groups.iter();
@@ -210,8 +231,11 @@ impl Model for CeilingCampaign {
     fn run(&self, params: &ParamSet<'_>, ctx: &RunContext) -> Result<Outputs, RunError> {
         let mut p = self.base.clone();
         let mut opts = self.opts.clone();
+        let mut runs: &[Prepared] = &self.runs;
         for (name, value) in params.iter() {
-            if name == DAMPING_RATIO {
+            if name == RUN_INDEX {
+                runs = std::slice::from_ref(self.run_at(value)?);
+            } else if name == DAMPING_RATIO {
                 check_damping(value)
                     .map_err(|m| RunError::Input(format!("{DAMPING_RATIO} = {m}")))?;
                 opts.damping_ratio = value;
@@ -221,7 +245,7 @@ impl Model for CeilingCampaign {
         }
         let mut peaks = vec![(0.0f64, 0.0f64); opts.spring_groups.len()];
         let mut histories = Vec::new();
-        for run in &self.runs {
+        for run in runs {
             if ctx.cancelled() {
                 return Err(RunError::Cancelled);
             }

@@ -119,12 +119,14 @@ pub fn diagnose_dir(
     );
     if let Some(store) = &plan.store {
         eprintln!(
-            "store: {} ({} FE evaluations run now on {} {} workers, {} re-used)",
+            "store: {} ({} FE evaluations run now on {} {} workers, {} re-used; {} run \
+             simulations stored now)",
             store.display(),
             exec.simulated(),
             plan.workers,
             plan.transport.as_str(),
-            exec.reused()
+            exec.reused(),
+            exec.tasks_run()
         );
     }
     Ok(report)

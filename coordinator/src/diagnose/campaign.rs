@@ -1,7 +1,10 @@
 //! A diagnosis's evaluation as a farm study of the worker kind
 //! `ceiling-campaign`: the model spec (the variant's specimen, the runs with
 //! their inputs and sensors, the spring groups), its hash, each point's task
-//! parameters, and the workers' outputs back in the bundle's units. The
+//! parameters, and the workers' outputs back in the bundle's units. A task
+//! simulates one run of one point (the study names `run_index`), so that a
+//! point's runs spread over the workers and a lone point (a local search's
+//! trial step) does not leave all but one idle. The
 //! worker runs exactly what [`Evaluation::simulate`] (sensors) or
 //! [`Evaluation::demand_at`] (spring peaks) runs, so the numbers match bit
 //! for bit.
@@ -12,10 +15,11 @@ use crate::bundle::{self, Bundle};
 use crate::specimen::to_bundle_units;
 use crate::study::hash_keys;
 use fe::ceiling::SimOptions;
+use protocol::Outcome;
 use protocol::{ModelSpec, Outputs};
 use std::collections::BTreeMap;
 use worker::ceiling::sensors::{DirectionOption, SensorKindOption, SensorOptions};
-use worker::ceiling_campaign::{CampaignOptions, CampaignRun};
+use worker::ceiling_campaign::{CampaignOptions, CampaignRun, RUN_INDEX};
 
 /// The registry name of the worker kind.
 pub const KIND: &str = "ceiling-campaign";
@@ -56,7 +60,9 @@ pub fn campaign_study(ev: &Evaluation<'_>, purpose: Purpose) -> Result<CampaignS
     };
     let options_json = serde_json::to_string(&options).map_err(|e| e.to_string())?;
     let mid: Vec<f64> = ev.priors.iter().map(|p| p.at(0.5)).collect();
-    let param_names = ev.assignments(&mid).iter().map(|(n, _)| n.to_string()).collect();
+    let mut param_names: Vec<String> =
+        ev.assignments(&mid).iter().map(|(n, _)| n.to_string()).collect();
+    param_names.push(RUN_INDEX.into());
     let spec = ModelSpec { kind: KIND.into(), options_json, param_names, outputs: vec![] };
     let keys = BTreeMap::from([
         ("kind".to_string(), spec.kind.clone()),
@@ -96,8 +102,8 @@ fn sensor_options(s: &bundle::Sensor) -> SensorOptions {
     }
 }
 
-/// The task parameters of `theta`, or why the point cannot be set up (the
-/// same message [`Evaluation::simulate`] gives).
+/// The parameters of `theta` (without the run index), or why the point
+/// cannot be set up (the same message [`Evaluation::simulate`] gives).
 pub fn task_params(
     ev: &Evaluation<'_>,
     study: &CampaignStudy,
@@ -105,12 +111,48 @@ pub fn task_params(
 ) -> Result<Vec<f64>, String> {
     ev.setup(theta)?;
     let pairs = ev.assignments(theta);
-    let names_match = pairs.len() == study.spec.param_names.len()
-        && pairs.iter().zip(&study.spec.param_names).all(|((a, _), b)| a == b);
+    let names = &study.spec.param_names;
+    let names_match = pairs.len() + 1 == names.len()
+        && pairs.iter().zip(names).all(|((a, _), b)| a == b)
+        && names.last().is_some_and(|n| n == RUN_INDEX);
     if !names_match {
         return Err(format!("parameter names at {theta:?} differ from the study's"));
     }
     Ok(pairs.into_iter().map(|(_, v)| v).collect())
+}
+
+/// The tasks of a point with parameters `params`: one per run, the run's
+/// index last.
+pub fn run_tasks(params: &[f64], n_runs: usize) -> Vec<Vec<f64>> {
+    (0..n_runs)
+        .map(|k| {
+            let mut p = params.to_vec();
+            p.push(k as f64);
+            p
+        })
+        .collect()
+}
+
+/// The outcome of a point from those of its run tasks, in run order: the
+/// first failure if any run failed, else the runs' histories in order and
+/// each spring-group peak the largest over the runs.
+pub fn merge_runs(runs: Vec<Outcome>) -> Outcome {
+    let mut merged = Outputs::default();
+    for (k, o) in runs.into_iter().enumerate() {
+        let out = match o {
+            Outcome::Ok(out) => out,
+            failed @ Outcome::Failed { .. } => return failed,
+        };
+        if k == 0 {
+            merged.scalars = out.scalars;
+        } else {
+            for ((_, a), (_, b)) in merged.scalars.iter_mut().zip(&out.scalars) {
+                *a = a.max(*b);
+            }
+        }
+        merged.histories.extend(out.histories);
+    }
+    Outcome::Ok(merged)
 }
 
 /// The simulated runs of `ev` from a worker's outputs (bundle units).
@@ -141,4 +183,44 @@ pub fn demand(ev: &Evaluation<'_>, out: &Outputs) -> Result<Demand, String> {
         connection_n: get(format!("{CONNECTION_GROUP}_force_n"))?,
         nominal_gap_mm: ev.fe_spec()?.structure.nominal_gap_mm,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use protocol::History;
+
+    fn run_out(id: &str, peak: f64) -> Outcome {
+        Outcome::Ok(Outputs {
+            scalars: vec![("g_force_n".into(), peak), ("h_force_n".into(), 2.0 * peak)],
+            histories: vec![History {
+                name: format!("{id}/A1"),
+                dt_s: 0.01,
+                channels: vec!["A1_accel_m_s2".into()],
+                data: vec![peak],
+            }],
+        })
+    }
+
+    #[test]
+    fn a_points_runs_merge_in_order_with_the_largest_peaks() {
+        let Outcome::Ok(out) = merge_runs(vec![run_out("a", 3.0), run_out("b", 1.0)]) else {
+            panic!("failed")
+        };
+        let names: Vec<&str> = out.histories.iter().map(|h| h.name.as_str()).collect();
+        assert_eq!(names, ["a/A1", "b/A1"]);
+        assert_eq!(out.scalars, vec![("g_force_n".into(), 3.0), ("h_force_n".into(), 6.0)]);
+    }
+
+    #[test]
+    fn a_failed_run_fails_the_point() {
+        let failed = Outcome::Failed { reason: "run b: no convergence".into() };
+        let merged = merge_runs(vec![run_out("a", 1.0), failed.clone(), run_out("c", 2.0)]);
+        assert_eq!(merged, failed);
+    }
+
+    #[test]
+    fn each_run_gets_a_task_with_its_index_last() {
+        assert_eq!(run_tasks(&[1.5, 0.1], 2), vec![vec![1.5, 0.1, 0.0], vec![1.5, 0.1, 1.0]]);
+    }
 }

@@ -1,12 +1,14 @@
 //! The farm as a diagnosis's FE executor: every batch of points becomes
 //! tasks of the evaluation's `ceiling-campaign` study (one study per model
-//! variant, run set and purpose; its hash names it), run on any transport.
-//! With an evaluation store, each result is stored as it arrives and a
-//! point already stored is not run again: a diagnosis killed at any moment
+//! variant, run set and purpose; its hash names it; one task per point and
+//! run), run on any transport. With an evaluation store, each run's result
+//! is stored as it arrives and one already stored is not run again: a
+//! diagnosis killed at any moment
 //! and started again re-uses what it had and reaches the same verdict (its
 //! sequence of points depends only on the results).
 
-use super::campaign::{self, campaign_study, task_params, CampaignStudy, Purpose};
+use super::campaign::{self, campaign_study, merge_runs, run_tasks, task_params};
+use super::campaign::{CampaignStudy, Purpose};
 use super::cause::Demand;
 use super::executor::{ExecutorError, FeExecutor, Sims};
 use super::fit::Evaluation;
@@ -41,28 +43,73 @@ pub struct FarmExecutor {
     /// Task ids are unique over the executor's life, so that a late answer
     /// can never pass for another batch's.
     next_task: u64,
+    /// Points with at least one run simulated now.
     simulated: usize,
+    /// Points whose runs all came from the store or an earlier task.
     reused: usize,
+    /// Run tasks simulated now.
+    tasks_run: usize,
 }
 
 impl FarmExecutor {
     /// Opens (or creates) the plan's store.
     pub fn new(plan: FarmPlan) -> Result<Self, ExecutorError> {
         let store = plan.store.as_deref().map(EvaluationStore::open_or_create).transpose()?;
-        Ok(FarmExecutor { plan, store, session: None, next_task: 0, simulated: 0, reused: 0 })
+        let (simulated, reused, tasks_run) = (0, 0, 0);
+        Ok(FarmExecutor { plan, store, session: None, next_task: 0, simulated, reused, tasks_run })
     }
 
-    /// Evaluations taken from the store instead of being simulated.
+    /// Evaluations (points) taken from the store instead of being simulated.
     pub fn reused(&self) -> usize {
         self.reused
     }
 
-    /// The outcome of every point: stored, else run on the farm (and stored).
+    /// Run tasks simulated (one per point and run; the store's rows).
+    pub fn tasks_run(&self) -> usize {
+        self.tasks_run
+    }
+
+    /// The outcome of every point over `n_runs` runs: each point's run
+    /// tasks, stored or run on the farm, merged in run order.
+    fn point_outcomes(
+        &mut self,
+        study: &CampaignStudy,
+        points: &[Result<Vec<f64>, String>],
+        n_runs: usize,
+    ) -> Result<Vec<Result<Outcome, String>>, ExecutorError> {
+        let n_runs = n_runs.max(1);
+        let tasks: Vec<Result<Vec<f64>, String>> = points
+            .iter()
+            .flat_map(|p| match p {
+                Ok(params) => run_tasks(params, n_runs).into_iter().map(Ok).collect(),
+                Err(e) => vec![Err(e.clone()); n_runs],
+            })
+            .collect();
+        let (outcomes, ran) = self.outcomes(study, &tasks)?;
+        let mut out = Vec::with_capacity(points.len());
+        for (point, (runs, ran)) in
+            points.iter().zip(outcomes.chunks(n_runs).zip(ran.chunks(n_runs)))
+        {
+            if point.is_ok() {
+                if ran.iter().any(|r| *r) {
+                    self.simulated += 1;
+                } else {
+                    self.reused += 1;
+                }
+            }
+            let merged: Result<Vec<Outcome>, String> = runs.iter().cloned().collect();
+            out.push(merged.map(merge_runs));
+        }
+        Ok(out)
+    }
+
+    /// The outcome of every task, stored, else run on the farm (and
+    /// stored), and whether it was run now.
     fn outcomes(
         &mut self,
         study: &CampaignStudy,
         points: &[Result<Vec<f64>, String>],
-    ) -> Result<Vec<Result<Outcome, String>>, ExecutorError> {
+    ) -> Result<(Vec<Result<Outcome, String>>, Vec<bool>), ExecutorError> {
         if let Some(store) = &self.store {
             store.add_study(&study.hash, &study.spec)?;
         }
@@ -85,27 +132,26 @@ impl FarmExecutor {
             };
             match (p, stored) {
                 (Err(e), _) => out.push(Some(Err(e.clone()))),
-                (Ok(_), Some(o)) => {
-                    self.reused += 1;
-                    out.push(Some(Ok(o)));
-                }
+                (Ok(_), Some(o)) => out.push(Some(Ok(o))),
                 (Ok(params), None) => {
                     missing.push((k, params.clone()));
                     out.push(None);
                 }
             }
         }
+        let mut ran = vec![false; points.len()];
         for (k, result) in self.run(study, &missing)? {
             out[k] = Some(Ok(result.outcome));
+            ran[k] = true;
         }
         for (k, first) in repeats {
-            self.reused += 1;
             out[k] = out[first].clone();
         }
-        Ok(out
+        let out = out
             .into_iter()
             .map(|o| o.unwrap_or_else(|| Err("the farm returned no result".into())))
-            .collect())
+            .collect();
+        Ok((out, ran))
     }
 
     /// Runs `missing` (batch index, parameters) on the farm.
@@ -126,7 +172,7 @@ impl FarmExecutor {
         let session = session_for(&mut self.session, &self.plan, study)?;
         let mut sink = Collect { store, study, missing, base, results: vec![] };
         let outcome = session.run(tasks, &mut sink, &mut Silent);
-        self.simulated += sink.results.len();
+        self.tasks_run += sink.results.len();
         let results = sink.results;
         if outcome.is_err() {
             // A transport that failed is not used again.
@@ -208,7 +254,7 @@ impl FeExecutor for FarmExecutor {
     ) -> Result<Vec<Sims>, ExecutorError> {
         let study = campaign_study(ev, Purpose::Histories).map_err(ExecutorError::Model)?;
         let points: Vec<_> = thetas.iter().map(|t| task_params(ev, &study, t)).collect();
-        let outcomes = self.outcomes(&study, &points)?;
+        let outcomes = self.point_outcomes(&study, &points, ev.runs.len())?;
         outcomes
             .into_iter()
             .map(|o| match o {
@@ -228,7 +274,7 @@ impl FeExecutor for FarmExecutor {
     ) -> Result<Result<Demand, String>, ExecutorError> {
         let study = campaign_study(ev, Purpose::Demand).map_err(ExecutorError::Model)?;
         let point = task_params(ev, &study, theta);
-        let outcome = self.outcomes(&study, &[point])?.pop();
+        let outcome = self.point_outcomes(&study, &[point], ev.runs.len())?.pop();
         match outcome {
             Some(Ok(Outcome::Ok(out))) => campaign::demand(ev, &out).map(Ok).map_err(|message| {
                 ExecutorError::Outputs { what: format!("study {}", &study.hash[..12]), message }

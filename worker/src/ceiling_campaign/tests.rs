@@ -184,3 +184,45 @@ fn unknown_parameters_and_options_are_refused() {
     .to_string();
     assert!(e.contains("unknown field `n_modes`"), "{e}");
 }
+
+/// A task naming `run_index` simulates that run alone: its histories are the
+/// all-runs task's for that run, bit for bit, and the peaks over the runs
+/// are the largest of the one-run peaks.
+#[test]
+fn a_run_index_task_simulates_that_run_alone() {
+    let o = options();
+    let all = built(&o).unwrap();
+    let whole = all.run(&ParamSet::new(&names(), &[17.5, 0.03]).unwrap(), &RunContext::default());
+    let whole = whole.unwrap();
+    let mut with_index = names();
+    with_index.push(RUN_INDEX.into());
+    let one = crate::registry::build(&ModelSpec {
+        kind: KIND.into(),
+        options_json: serde_json::to_string(&o).unwrap(),
+        param_names: with_index.clone(),
+        outputs: vec![],
+    })
+    .unwrap();
+    let mut histories = vec![];
+    let mut peaks = vec![0.0f64; whole.scalars.len()];
+    for (k, run) in o.runs.iter().enumerate() {
+        let values = [17.5, 0.03, k as f64];
+        let p = ParamSet::new(&with_index, &values).unwrap();
+        let out = one.run(&p, &RunContext::default()).unwrap();
+        assert!(out.histories.iter().all(|h| h.name.starts_with(&format!("{}/", run.id))));
+        histories.extend(out.histories);
+        peaks.iter_mut().zip(&out.scalars).for_each(|(a, (_, v))| *a = a.max(*v));
+    }
+    assert_eq!(histories, whole.histories);
+    let expected: Vec<f64> = whole.scalars.iter().map(|(_, v)| *v).collect();
+    assert_eq!(peaks, expected);
+    for bad in [2.0, -1.0, 0.5, f64::NAN] {
+        let values = [17.5, 0.03, bad];
+        let p = ParamSet::new(&with_index, &values).unwrap();
+        let e = one.run(&p, &RunContext::default()).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("run_index = {bad}: expected a whole number from 0 to 1")),
+            "{e}"
+        );
+    }
+}
