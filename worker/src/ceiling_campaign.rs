@@ -152,6 +152,18 @@ impl CeilingCampaign {
         };
         Ok(Self { spec, base, runs, opts })
     }
+
+    /// The run a `run_index` value names.
+    fn run_at(&self, value: f64) -> Result<&Prepared, RunError> {
+        let n = self.runs.len();
+        let ok = value.fract() == 0.0 && value >= 0.0 && value < n as f64;
+        ok.then(|| &self.runs[value as usize]).ok_or_else(|| {
+            RunError::Input(format!(
+                "{RUN_INDEX} = {value}: expected a whole number from 0 to {}",
+                n - 1
+            ))
+        })
+    }
 }
 
 /// Group names are non-empty and listed once.
@@ -206,20 +218,6 @@ fn check_run(k: usize, run: &CampaignRun, ids: &mut BTreeSet<String>) -> Result<
         }
     }
     Ok(())
-}
-
-impl CeilingCampaign {
-    /// The run a `run_index` value names.
-    fn run_at(&self, value: f64) -> Result<&Prepared, RunError> {
-        let n = self.runs.len();
-        let ok = value.fract() == 0.0 && value >= 0.0 && value < n as f64;
-        ok.then(|| &self.runs[value as usize]).ok_or_else(|| {
-            RunError::Input(format!(
-                "{RUN_INDEX} = {value}: expected a whole number from 0 to {}",
-                n - 1
-            ))
-        })
-    }
 }
 
 impl Model for CeilingCampaign {

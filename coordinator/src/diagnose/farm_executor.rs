@@ -33,6 +33,10 @@ pub struct FarmPlan {
     pub store: Option<PathBuf>,
 }
 
+/// Each task's outcome (or why it could not be set up) and whether it was
+/// simulated now.
+type TaskOutcomes = (Vec<Result<Outcome, String>>, Vec<bool>);
+
 /// Runs FE evaluations on the farm, keeping them in the store.
 pub struct FarmExecutor {
     plan: FarmPlan,
@@ -108,16 +112,16 @@ impl FarmExecutor {
     fn outcomes(
         &mut self,
         study: &CampaignStudy,
-        points: &[Result<Vec<f64>, String>],
-    ) -> Result<(Vec<Result<Outcome, String>>, Vec<bool>), ExecutorError> {
+        tasks: &[Result<Vec<f64>, String>],
+    ) -> Result<TaskOutcomes, ExecutorError> {
         if let Some(store) = &self.store {
             store.add_study(&study.hash, &study.spec)?;
         }
-        let mut out: Vec<Option<Result<Outcome, String>>> = Vec::with_capacity(points.len());
+        let mut out: Vec<Option<Result<Outcome, String>>> = Vec::with_capacity(tasks.len());
         let mut missing: Vec<(usize, Vec<f64>)> = Vec::new();
         // Points repeated within the batch: (batch index, index of the first).
         let mut repeats: Vec<(usize, usize)> = Vec::new();
-        for (k, p) in points.iter().enumerate() {
+        for (k, p) in tasks.iter().enumerate() {
             let earlier = p.as_ref().ok().and_then(|params| {
                 missing.iter().find(|(_, q)| same_point(q, params)).map(|(first, _)| *first)
             });
@@ -139,7 +143,7 @@ impl FarmExecutor {
                 }
             }
         }
-        let mut ran = vec![false; points.len()];
+        let mut ran = vec![false; tasks.len()];
         for (k, result) in self.run(study, &missing)? {
             out[k] = Some(Ok(result.outcome));
             ran[k] = true;

@@ -125,7 +125,7 @@ impl std::fmt::Display for NewtonFailure {
 /// with the kept factor; a refactorization of a 6 m x 4.8 m grid costs
 /// about as much as four to six such solves. On its Pinching4 sweep (6000
 /// steps, 126 hysteretic connections) 6 rather than 24 trades 22 907
-/// column solves for 4 064 and 3 523 factorizations for 5 052, and the
+/// column solves for 4 056 and 3 523 factorizations for 5 056, and the
 /// run's CPU time fell by about a tenth (fastest of five: 4.2 -> 3.7 s).
 const MAX_RANK: usize = 6;
 

@@ -59,10 +59,15 @@ fn names() -> Vec<String> {
 
 /// The model as a worker builds it: options through JSON text and the registry.
 fn built(o: &CampaignOptions) -> Result<Box<dyn Model>, ModelError> {
+    built_with(o, names())
+}
+
+/// [`built`] for a study with the parameters `param_names`.
+fn built_with(o: &CampaignOptions, param_names: Vec<String>) -> Result<Box<dyn Model>, ModelError> {
     crate::registry::build(&ModelSpec {
         kind: KIND.into(),
         options_json: serde_json::to_string(o).unwrap(),
-        param_names: names(),
+        param_names,
         outputs: vec![],
     })
 }
@@ -196,13 +201,7 @@ fn a_run_index_task_simulates_that_run_alone() {
     let whole = whole.unwrap();
     let mut with_index = names();
     with_index.push(RUN_INDEX.into());
-    let one = crate::registry::build(&ModelSpec {
-        kind: KIND.into(),
-        options_json: serde_json::to_string(&o).unwrap(),
-        param_names: with_index.clone(),
-        outputs: vec![],
-    })
-    .unwrap();
+    let one = built_with(&o, with_index.clone()).unwrap();
     let mut histories = vec![];
     let mut peaks = vec![0.0f64; whole.scalars.len()];
     for (k, run) in o.runs.iter().enumerate() {
