@@ -35,3 +35,5 @@ mod testkit;
 
 #[cfg(test)]
 mod farm_executor_tests;
+#[cfg(test)]
+mod fit_tests;

@@ -256,7 +256,9 @@ pub fn diagnose_with(
     })
 }
 
-/// Each candidate's validation error in excess of the sensor noise, with
+/// Each candidate's validation error in excess of the sensor noise (each
+/// channel's offset fitted to the candidate's prediction,
+/// [`Evaluation::validation_channels`]), with
 /// one noise variance per channel for all of them: the smallest nugget
 /// estimate over the candidates' residuals (the model that explains most
 /// leaves the cleanest view of the noise). Without simulations it stays NaN.
@@ -266,7 +268,9 @@ fn excess_validation_errors(b: &Bundle, val_runs: &[usize], results: &mut [Candi
         Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs: val_runs, demand: None };
     let fits: Vec<Option<Vec<ChannelFit>>> = results
         .iter()
-        .map(|r| (!r.validation_sims.is_empty()).then(|| ev.channels(&r.validation_sims)))
+        .map(|r| {
+            (!r.validation_sims.is_empty()).then(|| ev.validation_channels(&r.validation_sims))
+        })
         .collect();
     let Some(n_ch) = fits.iter().flatten().map(Vec::len).next() else { return };
     let floor: Vec<f64> = (0..n_ch)
@@ -398,7 +402,7 @@ fn assess(
     let (sims, members) = predict(&ev, cal, u, exec)?;
     out.prediction_members = members;
     if let Some(sims) = sims {
-        out.validation_nrmse = mean_nrmse(&ev.channels(&sims));
+        out.validation_nrmse = mean_nrmse(&ev.validation_channels(&sims));
         out.validation_sims = sims;
     }
     out.calibration_sims = if cal_runs == val_runs {

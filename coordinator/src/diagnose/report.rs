@@ -65,9 +65,10 @@ fn verdict_section(d: &Diagnosis) -> Section {
              minimum description length; {} has the lowest ({:.1} nats). Validation errors are \
              the mean over the sensors of the validation runs of the normalised RMS error in \
              excess of the sensor noise, √max(MSE − σ², 0) / √(MS − σ²) (MSE of simulated − \
-             measured, MS of measured), 0 for a model that misses by the noise alone; σ² per \
-             sensor is the nugget of the residual's variogram, the smallest over the candidate \
-             models. Raw NRMSE (noise included): baseline {}, extended {}.",
+             measured, MS of measured), 0 for a model that misses by the noise alone; each \
+             sensor's constant offset is fitted to each model's prediction (least squares) and \
+             σ² per sensor is the nugget of the residual's variogram, the smallest over the \
+             candidate models. Raw NRMSE (noise included): baseline {}, extended {}.",
             c.cause.as_str(),
             c.mdl.as_ref().map_or(f64::NAN, |m| m.total),
             num(d.candidates[0].validation_nrmse),
