@@ -49,6 +49,12 @@ pub struct Args {
     /// search stops in).
     #[arg(long, default_value_t = 0)]
     pub valley_walks: usize,
+    /// Walks along the least-determined direction for the extension the
+    /// diagnosis names, after every variant is calibrated, each followed by
+    /// another local search (~20 FE runs each; at most one in a large
+    /// campaign, none there for connection hysteresis).
+    #[arg(long, default_value_t = 2)]
+    pub refine_walks: usize,
     /// When connection hysteresis is also calibrated along a second path
     /// with the viscous damping explored below the baseline's estimate
     /// (about 50 more FE runs; for strong hysteresis, whose dissipation the
@@ -68,6 +74,7 @@ pub fn run(a: Args) -> Result<()> {
         per_dim: a.points_per_parameter,
         seed: a.seed,
         valley_walks: a.valley_walks,
+        refine_walks: a.refine_walks,
         damping_path: a.damping_path,
         ..Budget::default()
     };

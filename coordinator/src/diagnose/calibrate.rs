@@ -39,6 +39,9 @@ pub struct Budget {
     /// Walks along the least-determined direction after an extension's
     /// local search (one costs ~8 to 14 FE runs).
     pub valley_walks: usize,
+    /// Walks the extension a diagnosis names gets after every variant is
+    /// calibrated ([`super::refine`]; ~20 FE runs each).
+    pub refine_walks: usize,
     /// When an extension with three or more parameters of its own also
     /// takes the lower-damping path ([`Search::damping_path`], ~50 FE runs).
     pub damping_path: DampingPathUse,
@@ -55,6 +58,7 @@ impl Default for Budget {
             threads: 2,
             seed: 1,
             valley_walks: 0,
+            refine_walks: 2,
             damping_path: DampingPathUse::WhenContending,
         }
     }
@@ -322,14 +326,7 @@ pub fn calibrate(
     // A valley between an extension's own parameters; one parameter alone
     // is searched by the local search itself.
     let walks = if base.is_some() && own.len() >= 2 { budget.valley_walks } else { 0 };
-    for _ in 0..walks {
-        let Some(g) = gn.as_ref() else { break };
-        let Some(from) = search.sloppy_walk(&mut cal, &u, g, &mut report)? else { break };
-        let (end, g) =
-            search.levenberg_marquardt(&mut cal, Scale::Fine, from, &all, full / 2, &mut report)?;
-        let Some(g) = g else { break };
-        (u, gn) = (end, Some(g));
-    }
+    (_, gn) = search.valley_walks(&mut cal, (u, gn), walks, full / 2, &mut report)?;
     cal.gauss_newton = gn;
     if walks > 0 {
         stage(&cal, "valley walk");
@@ -343,7 +340,7 @@ pub fn calibrate(
 /// two steps, and the second start mostly ended worse under the
 /// time-history likelihood than the best design point, so its runs go to
 /// the emulator rounds instead (see [`Stages`]).
-const COARSE_MAX_DIMS: usize = 2;
+pub(super) const COARSE_MAX_DIMS: usize = 2;
 
 /// FE runs of a calibration's stages after its design.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -426,7 +423,7 @@ fn held_point(priors: &[Prior], base: &[f64]) -> Vec<f64> {
 }
 
 /// Distances (unit cube) probed each way along the least-determined direction.
-const SLOPPY_STEPS: [f64; 4] = [0.03, 0.06, 0.12, 0.24];
+pub(super) const SLOPPY_STEPS: [f64; 4] = [0.03, 0.06, 0.12, 0.24];
 
 /// What the final searches share: the variant, the weights, the budget and
 /// who runs the FE model.
@@ -521,6 +518,32 @@ impl Search<'_, '_> {
         cal.points.extend(points);
         progress(cal.points.len());
         Ok(best)
+    }
+
+    /// Up to `walks` rounds of a [`sloppy_walk`](Self::sloppy_walk) from
+    /// where a local search ended (`end`: the point and its Gauss–Newton
+    /// matrix) followed by a local search of `local` FE runs over every
+    /// dimension from the probe that gained; stops early when a walk finds
+    /// nothing better. Returns where the last search ended.
+    pub(super) fn valley_walks(
+        &mut self,
+        cal: &mut Calibration,
+        end: SearchEnd,
+        walks: usize,
+        local: usize,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<SearchEnd, ExecutorError> {
+        let (mut u, mut gn) = end;
+        let all: Vec<usize> = (0..cal.priors.len()).collect();
+        for _ in 0..walks {
+            let Some(g) = gn.as_ref() else { break };
+            let Some(from) = self.sloppy_walk(cal, &u, g, progress)? else { break };
+            let (next, g) =
+                self.levenberg_marquardt(cal, Scale::Fine, from, &all, local, progress)?;
+            let Some(g) = g else { break };
+            (u, gn) = (next, Some(g));
+        }
+        Ok((u, gn))
     }
 
     /// Levenberg–Marquardt on −log L = Σ n_c/2 · log SSR_c over the `active`

@@ -38,6 +38,7 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
             threads: 2,
             seed: 3,
             valley_walks: 1,
+            refine_walks: 1,
             damping_path: super::damping_path::DampingPathUse::Never,
         },
         candidates: vec![Cause::None, Cause::PerimeterPounding],

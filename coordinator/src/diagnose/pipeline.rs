@@ -1,9 +1,11 @@
 //! The diagnosis of a bundle, end to end: split the runs, calibrate the
 //! baseline and every extension on the calibration runs, weigh them by MDL,
-//! pick the cause (`none` when no extension earns its complexity), and
-//! measure each calibrated variant on the validation runs.
+//! pick the cause (`none` when no extension earns its complexity), search
+//! the named extension further ([`super::refine`]), and measure each
+//! calibrated variant on the validation runs.
 
 use super::calibrate::{calibrate, Around, Budget, Calibration};
+use super::campaign_size::campaign_work;
 use super::cause::Cause;
 use super::ensemble;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
@@ -13,6 +15,7 @@ use super::fit::{
 use super::linear_part::calibrate_linear_part;
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use super::posterior::{variational_posterior, VariationalPosterior};
+use super::refine::{planned_runs, refine, refine_walks};
 use crate::bundle::{Bundle, RunRole};
 
 /// Choices of a diagnosis.
@@ -236,7 +239,18 @@ pub fn diagnose_with(
         results.push(r);
     }
     excess_validation_errors(b, &val_runs, &mut results);
-    let pick = select(&results);
+    let mut pick = select(&results);
+    if pick != 0 {
+        let named = Named { cal: &mut cals[pick], part: linear_parts[pick].as_ref() };
+        let runs = (&cal_runs[..], &val_runs[..]);
+        if let Some(r) =
+            refine_named(b, named, runs, (&n_eff0, &n_eff), &held, opts, exec, progress)?
+        {
+            results[pick] = r;
+            excess_validation_errors(b, &val_runs, &mut results);
+            pick = select(&results);
+        }
+    }
     results[pick].selected = true;
     progress("posterior (BBVI)", 0, 1);
     results[pick].posterior = Some(variational_posterior(&cals[pick], &n_eff, opts.budget.seed));
@@ -254,6 +268,48 @@ pub fn diagnose_with(
         extended_validation_error: ext,
         gain: if pick == 0 { 0.0 } else { 1.0 - ext / base },
     })
+}
+
+/// The extension a diagnosis names, with its linear part.
+struct Named<'c> {
+    cal: &'c mut Calibration,
+    part: Option<&'c Calibration>,
+}
+
+/// Refines the named extension ([`refine`]) and assesses it again; None
+/// when refining evaluated nothing. `n_eff` = (calibration weights,
+/// assessment weights).
+#[allow(clippy::too_many_arguments)]
+fn refine_named(
+    b: &Bundle,
+    named: Named<'_>,
+    (cal_runs, val_runs): (&[usize], &[usize]),
+    (n_eff0, n_eff): (&[f64], &[f64]),
+    held: &Held,
+    opts: &DiagnoseOptions,
+    exec: &mut dyn FeExecutor,
+    progress: &mut dyn FnMut(&str, usize, usize),
+) -> Result<Option<CandidateResult>, DiagnoseError> {
+    let Named { cal, part } = named;
+    let own = cal.priors.len() - Cause::None.priors().len();
+    let walks = refine_walks(&opts.budget, own, campaign_work(b, cal_runs));
+    if walks == 0 {
+        return Ok(None);
+    }
+    let stage = format!("refining {}", cal.cause.as_str());
+    let planned = planned_runs(&opts.budget, walks);
+    let budget = &opts.budget;
+    if !refine(b, cal, cal_runs, n_eff0, budget, walks, exec, &mut |d| {
+        progress(&stage, d, planned)
+    })? {
+        return Ok(None);
+    }
+    let mut r = assess(b, cal, n_eff, (cal_runs, val_runs), held, exec)?;
+    if let Some(part) = part {
+        r.linear_part_mdl = mdl(part, None, n_eff, (0.0, 0.0)).map(|m| m.total);
+        r.fe_points += part.fe_points();
+    }
+    Ok(Some(r))
 }
 
 /// Each candidate's validation error in excess of the sensor noise (each
