@@ -8,6 +8,7 @@
 //!
 //! Units: N, mm, s, t; accelerations mm/s².
 
+pub mod condensed;
 pub mod excitation;
 pub mod factor_cache;
 pub mod history;
@@ -146,6 +147,8 @@ pub struct StepReport {
     pub column_solves: usize,
     /// Krylov-accelerated iterations on a kept approximate tangent so far.
     pub stale_iterations: usize,
+    /// Dense factorizations of condensed steps so far ([`condensed`]).
+    pub dense_factorizations: usize,
 }
 
 /// Runs the model's transient analysis; `observer` hears every step.
@@ -245,6 +248,7 @@ pub fn run_plan(
             low_rank_updates: sys.low_rank_updates,
             column_solves: sys.column_solves(),
             stale_iterations: sys.stale_iterations,
+            dense_factorizations: sys.dense_factorizations(),
         });
     }
     Ok(hist)

@@ -7,6 +7,10 @@
 //! 6 springs whose tangent changed ([`super::low_rank`]); beyond that it is
 //! refactorized, or optionally used as an approximate tangent with Krylov
 //! acceleration ([`super::krylov`], `NewtonSettings::stale_max_iter`).
+//! With at most [`super::condensed::CONDENSE_MAX_SPRINGS`] nonlinear
+//! springs (the default `NewtonSettings::condense`) a step is solved on
+//! their deformations alone instead ([`super::condensed`]: the same
+//! iterates, a dense solve per iteration, no sparse refactorization).
 //! A structure whose springs are all elastic is linear: its first
 //! increment, solved with the exact tangent, is the step's solution, and
 //! the step ends there (a second iteration would only confirm it with a
@@ -15,6 +19,7 @@
 //! Equation of motion relative to the base: M ü + C u̇ + F_int(u) = −M r a_g.
 //! Units: N, mm, s, t.
 
+use super::condensed::Condensed;
 use super::factor_cache::{CholeskyLayout, FactorCache, TangentFactor};
 use super::krylov::KrylovAccelerator;
 use super::low_rank::{LowRankUpdate, SpringEqs};
@@ -60,14 +65,19 @@ pub struct NewtonSettings {
     pub floor_tol_mm: f64,
     /// Krylov-accelerated iterations allowed per step on a kept factor whose
     /// tangent differs in more springs than the low-rank correction takes,
-    /// before refactorizing (0: refactorize at once).
+    /// before refactorizing (0: refactorize at once). Above 0 the step is
+    /// never condensed.
     pub stale_max_iter: usize,
+    /// Solve on the nonlinear springs' deformations when there are at most
+    /// [`super::condensed::CONDENSE_MAX_SPRINGS`] of them ([`super::condensed`]).
+    pub condense: bool,
 }
 
 impl Default for NewtonSettings {
     /// The fixtures' settings: 1e-10 mm, 50 iterations; a round-off
     /// residual (64 ε) also converges (after an exact increment that kept
-    /// the springs' tangents, or one below 1e-7 mm).
+    /// the springs' tangents, or one below 1e-7 mm); condensed onto the
+    /// nonlinear springs when they are few.
     fn default() -> Self {
         NewtonSettings {
             tol_mm: 1e-10,
@@ -75,6 +85,7 @@ impl Default for NewtonSettings {
             floor_factor: 64.0,
             floor_tol_mm: 1e-7,
             stale_max_iter: 0,
+            condense: true,
         }
     }
 }
@@ -172,6 +183,8 @@ pub struct Dynamics<'a> {
     work: Vec<f64>,
     /// Every spring elastic: one exact increment solves a step.
     linear: bool,
+    /// The condensation onto the nonlinear springs, when they are few.
+    condensed: Option<Condensed>,
 }
 
 impl<'a> Dynamics<'a> {
@@ -215,12 +228,45 @@ impl<'a> Dynamics<'a> {
             krylov: KrylovAccelerator::default(),
             work: vec![0.0; n],
             linear: s.springs.iter().all(|sp| matches!(sp.material, MaterialSpec::Elastic { .. })),
+            condensed: Condensed::of(s),
         }
     }
 
     /// The structure.
-    pub fn structure(&self) -> &Structure {
+    pub fn structure(&self) -> &'a Structure {
         self.s
+    }
+
+    /// Dense factorizations of condensed steps so far.
+    pub fn dense_factorizations(&self) -> usize {
+        self.condensed.as_ref().map_or(0, Condensed::dense_factorizations)
+    }
+
+    /// The beam, mass and damping part of the effective tangent at the
+    /// step of `nm` (recomputed when the step changes, which also drops the
+    /// kept factor).
+    pub(super) fn base_values(&mut self, nm: &NewmarkConstants) -> &[f64] {
+        if self.base_dt_s != nm.dt_s {
+            self.base_eff = self
+                .s
+                .beam_values
+                .iter()
+                .zip(&self.c_values)
+                .map(|(k, c)| k + nm.c_damp * c)
+                .collect();
+            for (eq, m) in self.s.mass.iter().enumerate() {
+                self.base_eff[self.diag[eq]] += nm.c_mass * m;
+            }
+            self.base_dt_s = nm.dt_s;
+            self.factor = None;
+        }
+        &self.base_eff
+    }
+
+    /// The factorization cache of the pattern (counts a factorization).
+    pub(super) fn cache_mut(&mut self) -> &mut FactorCache {
+        self.factorizations += 1;
+        &mut self.cache
     }
 
     /// Solves done for low-rank correction columns so far.
@@ -238,20 +284,7 @@ impl<'a> Dynamics<'a> {
         tangents: &[f64],
         allow_stale: bool,
     ) -> Result<Operator, NewtonFailure> {
-        if self.base_dt_s != nm.dt_s {
-            self.base_eff = self
-                .s
-                .beam_values
-                .iter()
-                .zip(&self.c_values)
-                .map(|(k, c)| k + nm.c_damp * c)
-                .collect();
-            for (eq, m) in self.s.mass.iter().enumerate() {
-                self.base_eff[self.diag[eq]] += nm.c_mass * m;
-            }
-            self.base_dt_s = nm.dt_s;
-            self.factor = None;
-        }
+        self.base_values(nm);
         if let (Some(base), Some(t0)) = (&self.factor, &self.factored_tangents) {
             self.changes.clear();
             for (k, (a, b)) in tangents.iter().zip(t0).enumerate() {
@@ -290,7 +323,7 @@ impl<'a> Dynamics<'a> {
 
     /// Residual R = −Σ M r a_g − M a − C v − K_beam u − F_springs into `out`
     /// (one pass over the pattern for K_beam u + C v); `ext` is Σ M r a_g.
-    fn residual(
+    pub(super) fn residual(
         &mut self,
         trial: &Kinematics,
         springs: &SpringStates,
@@ -329,6 +362,14 @@ impl<'a> Dynamics<'a> {
         ext: &[f64],
         settings: &NewtonSettings,
     ) -> Result<usize, NewtonFailure> {
+        if settings.condense && settings.stale_max_iter == 0 {
+            if let Some(mut c) = self.condensed.take() {
+                let res =
+                    self.solve_step_condensed(&mut c, nm, committed, trial, springs, ext, settings);
+                self.condensed = Some(c);
+                return res;
+            }
+        }
         trial.u.clone_from(&committed.u);
         let mut r = vec![0.0; committed.u.len()];
         let mut scale = vec![0.0; committed.u.len()];

@@ -61,6 +61,22 @@ impl SpringStates {
         Ok(())
     }
 
+    /// Sets spring `k`'s trial deformation `d_mm`; returns its force and tangent.
+    pub fn set_trial_one(
+        &mut self,
+        s: &Structure,
+        k: usize,
+        d_mm: f64,
+    ) -> Result<(f64, f64), SpringFailure> {
+        let (f, kt) = self.materials[k]
+            .trial(d_mm)
+            .map_err(|error| SpringFailure { spring: s.springs[k].id, error })?;
+        self.deformation_mm[k] = d_mm;
+        self.force_n[k] = f;
+        self.tangent_n_mm[k] = kt;
+        Ok((f, kt))
+    }
+
     /// Adds the resisting forces (−f on i, +f on j) into `out`.
     pub fn add_forces(&self, s: &Structure, out: &mut [f64]) {
         for (sp, f) in s.springs.iter().zip(&self.force_n) {

@@ -1,8 +1,10 @@
-//! Krylov-accelerated iterations on a kept factorization
-//! (`NewtonSettings::stale_max_iter`) reach the same motion as full Newton:
-//! a 3.6 m x 3.6 m friction-pounding specimen with Pinching4 connections,
-//! whose tangent changes in dozens of springs every step, under the first
-//! 6 s of the verification sweep at 0.5 g (dt 0.005 s).
+//! Newton variants reach the same motion as full Newton on the whole
+//! structure: Krylov-accelerated iterations on a kept factorization
+//! (`NewtonSettings::stale_max_iter`) and steps condensed onto the nonlinear
+//! springs (`NewtonSettings::condense`). The specimen: 3.6 m x 3.6 m,
+//! friction-pounding perimeter with Pinching4 connections, whose tangent
+//! changes in dozens of springs every step, under the first 6 s of the
+//! verification sweep at 0.5 g (dt 0.005 s).
 
 mod common;
 
@@ -52,26 +54,57 @@ fn pinching4_model() -> Model {
     m
 }
 
-/// History, factorizations and Krylov iterations with `stale_max_iter`.
-fn run(m: &Model, stale_max_iter: usize) -> (History, usize, usize) {
+/// Full Newton on the whole structure (no condensation, no Krylov).
+fn full_newton() -> NewtonSettings {
+    NewtonSettings { condense: false, ..NewtonSettings::default() }
+}
+
+/// Solver counts of a run.
+#[derive(Debug, Default)]
+struct Counts {
+    factorizations: usize,
+    stale: usize,
+    dense: usize,
+}
+
+/// History and solver counts with `newton`.
+fn run(m: &Model, newton: NewtonSettings) -> (History, Counts) {
     let mut opts = TransientOptions::new(&verification_dir().join("models"));
-    opts.newton = NewtonSettings { stale_max_iter, ..NewtonSettings::default() };
-    let (mut facts, mut stale, mut substeps) = (0, 0, 0);
+    opts.newton = newton;
+    let (mut c, mut substeps) = (Counts::default(), 0);
     let h = run_model(m, &opts, &mut |s| {
-        facts = s.factorizations;
-        stale = s.stale_iterations;
+        c = Counts {
+            factorizations: s.factorizations,
+            stale: s.stale_iterations,
+            dense: s.dense_factorizations,
+        };
         substeps += s.substeps;
     })
     .unwrap();
     assert_eq!(substeps, STEPS);
-    (h, facts, stale)
+    (h, c)
+}
+
+/// Largest difference of two histories per column, over the column's peak.
+fn max_relative_difference(a: &History, b: &History) -> f64 {
+    assert_eq!(a.columns, b.columns);
+    let mut worst = 0.0f64;
+    for c in 2..a.columns.len() {
+        let peak = a.rows.iter().map(|r| r[c].abs()).fold(0.0, f64::max).max(1e-300);
+        for (x, y) in a.rows.iter().zip(&b.rows) {
+            worst = worst.max((x[c] - y[c]).abs() / peak);
+        }
+    }
+    worst
 }
 
 #[test]
 fn krylov_on_a_kept_factor_follows_full_newton() {
     let m = pinching4_model();
-    let (h_newton, f_newton, s_newton) = run(&m, 0);
-    let (h_krylov, f_krylov, s_krylov) = run(&m, 14);
+    let (h_newton, newton) = run(&m, full_newton());
+    let (h_krylov, krylov) = run(&m, NewtonSettings { stale_max_iter: 14, ..full_newton() });
+    let (f_newton, s_newton) = (newton.factorizations, newton.stale);
+    let (f_krylov, s_krylov) = (krylov.factorizations, krylov.stale);
     eprintln!(
         "full Newton: {f_newton} factorizations; Krylov: {f_krylov} factorizations, \
          {s_krylov} accelerated iterations"
@@ -90,4 +123,17 @@ fn krylov_on_a_kept_factor_follows_full_newton() {
             );
         }
     }
+}
+
+#[test]
+fn condensed_steps_follow_full_newton() {
+    let m = pinching4_model();
+    let (h_full, full) = run(&m, full_newton());
+    let (h_cond, cond) = run(&m, NewtonSettings::default());
+    let worst = max_relative_difference(&h_full, &h_cond);
+    eprintln!("full: {full:?}; condensed: {cond:?}; largest difference {worst:.2e} of a peak");
+    assert_eq!(full.dense, 0);
+    // One sparse factorization per step size, dense solves instead.
+    assert!(cond.dense > 0 && cond.factorizations < 5 && full.factorizations > 100);
+    assert!(worst <= 1e-6, "{worst}");
 }
