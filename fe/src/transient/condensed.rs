@@ -228,6 +228,7 @@ fn z_norm(ztz: &[f64], e: &[f64]) -> f64 {
 }
 
 /// The springs' values the condensed iteration works on.
+#[derive(Clone)]
 struct SpringVectors {
     /// Deformations (mm).
     d: Vec<f64>,
@@ -312,14 +313,7 @@ impl Dynamics<'_> {
         let s = self.structure();
         let n = committed.u.len();
         trial.u.clone_from(&committed.u);
-        nm.update_all(
-            &trial.u,
-            &committed.u,
-            &committed.v,
-            &committed.a,
-            &mut trial.v,
-            &mut trial.a,
-        );
+        trial.follow_displacements(nm, committed);
         let mut r0 = vec![0.0; n];
         self.residual(trial, springs, ext, &mut r0);
         let bi = match c.basis_at(nm.dt_s) {
@@ -335,8 +329,7 @@ impl Dynamics<'_> {
         let mut d0: Vec<f64> =
             (0..m).map(|k| start.d[k] + w_dot(&s.springs[c.springs[k]].eqs, &r0)).collect();
         add_columns(&c.bases[bi].g, m, &start.g, &mut d0);
-        let mut v =
-            SpringVectors { d: start.d.clone(), g: start.g.clone(), delta: start.delta.clone() };
+        let mut v = start.clone();
         let (mut phi, mut dd, mut scale) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
         let mut solved: Option<(Vec<f64>, Vec<f64>)> = None; // (δ, ĝ) of the last solve
         let mut last = f64::NAN;
@@ -395,14 +388,7 @@ impl Dynamics<'_> {
         let e: Vec<f64> = g_start.iter().zip(ghat).map(|(a, b)| a - b).collect();
         add_columns(&c.bases[bi].z, n, &e, &mut trial.u);
         springs.set_trial(self.structure(), &trial.u).map_err(NewtonFailure::Material)?;
-        nm.update_all(
-            &trial.u,
-            &committed.u,
-            &committed.v,
-            &committed.a,
-            &mut trial.v,
-            &mut trial.a,
-        );
+        trial.follow_displacements(nm, committed);
         Ok(())
     }
 }

@@ -45,6 +45,12 @@ impl Kinematics {
     pub fn zeros(n: usize) -> Self {
         Kinematics { u: vec![0.0; n], v: vec![0.0; n], a: vec![0.0; n] }
     }
+
+    /// Sets the velocities and accelerations of a trial state from its
+    /// displacements and the `committed` state (Newmark's update).
+    pub fn follow_displacements(&mut self, nm: &NewmarkConstants, committed: &Kinematics) {
+        nm.update_all(&self.u, &committed.u, &committed.v, &committed.a, &mut self.v, &mut self.a);
+    }
 }
 
 /// Newton settings: converged when ‖Δu‖₂ < `tol_mm`, or when the residual
@@ -379,14 +385,7 @@ impl<'a> Dynamics<'a> {
         let mut krylov_operator = None;
         for it in 1..=settings.max_iter {
             springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
-            nm.update_all(
-                &trial.u,
-                &committed.u,
-                &committed.v,
-                &committed.a,
-                &mut trial.v,
-                &mut trial.a,
-            );
+            trial.follow_displacements(nm, committed);
             self.residual(trial, springs, ext, &mut r);
             // An increment solved with the exact tangent that left every
             // spring on the tangent it was solved with is, for springs
@@ -434,14 +433,7 @@ impl<'a> Dynamics<'a> {
             let exact = self.linear && op == Operator::Exact;
             if exact || norm < settings.tol_mm || (floor && norm < settings.floor_tol_mm) {
                 springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
-                nm.update_all(
-                    &trial.u,
-                    &committed.u,
-                    &committed.v,
-                    &committed.a,
-                    &mut trial.v,
-                    &mut trial.a,
-                );
+                trial.follow_displacements(nm, committed);
                 return Ok(it);
             }
         }
