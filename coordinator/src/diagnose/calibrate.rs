@@ -399,7 +399,7 @@ impl Stages {
 }
 
 /// −log L at the last evaluation of point `u` (+∞ when never evaluated).
-fn point_value(cal: &Calibration, u: &[f64], n_eff: &[f64]) -> f64 {
+pub(super) fn point_value(cal: &Calibration, u: &[f64], n_eff: &[f64]) -> f64 {
     cal.points.iter().rev().find(|p| p.u == u).map_or(f64::INFINITY, |p| p.neg_log_lik(n_eff))
 }
 

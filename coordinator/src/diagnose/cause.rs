@@ -262,6 +262,17 @@ impl Cause {
         BASELINE_PRIORS.iter().chain(self.extra_priors()).copied().collect()
     }
 
+    /// The extension's own parameter that sets where its physics switches
+    /// on: a gap, a slip force, a yield force (None for the baseline).
+    pub fn onset(self) -> Option<&'static str> {
+        match self {
+            Cause::None => None,
+            Cause::PerimeterPounding => Some("gap_over_demand"),
+            Cause::PerimeterFriction => Some("slip_over_demand"),
+            Cause::ConnectionHysteresis => Some("yield_over_demand"),
+        }
+    }
+
     /// The extension's linear part, when it has one that differs from the
     /// baseline (pounding and friction do nothing before contact or slip).
     pub fn linear_part(self) -> Option<LinearPart> {
@@ -297,7 +308,21 @@ mod tests {
             assert!(lp.linear.iter().all(|n| own.contains(n) && *n != lp.onset), "{c:?}");
         }
         assert!(Cause::ConnectionHysteresis.linear_part().is_some());
+        assert_eq!(
+            Cause::ConnectionHysteresis.linear_part().map(|lp| lp.onset),
+            Cause::ConnectionHysteresis.onset()
+        );
         assert!(Cause::None.linear_part().is_none());
+    }
+
+    #[test]
+    fn every_extension_has_an_onset_of_its_own_explored_from_the_start() {
+        assert!(Cause::None.onset().is_none());
+        for c in Cause::ALL.into_iter().filter(|c| *c != Cause::None) {
+            let onset = c.onset().unwrap_or_else(|| panic!("{c:?}"));
+            let p = c.extra_priors().iter().find(|p| p.name == onset);
+            assert!(p.is_some_and(|p| p.reference.is_none()), "{c:?}");
+        }
     }
 
     #[test]

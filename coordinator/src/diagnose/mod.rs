@@ -23,6 +23,7 @@ pub mod noise_floor;
 pub mod pipeline;
 pub mod posterior;
 pub mod refine;
+pub mod ridge;
 pub mod report;
 pub mod report_posterior;
 pub mod report_symptoms;

@@ -297,7 +297,7 @@ fn refine_named(
         return Ok(None);
     }
     let stage = format!("refining {}", cal.cause.as_str());
-    let planned = planned_runs(&opts.budget, walks);
+    let planned = planned_runs(&opts.budget, walks, own);
     let budget = &opts.budget;
     if !refine(b, cal, cal_runs, n_eff0, budget, walks, exec, &mut |d| {
         progress(&stage, d, planned)

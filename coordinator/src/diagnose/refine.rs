@@ -5,10 +5,11 @@
 //! calibration of an OpenSees-simulated campaign stopped at −log L = −4716
 //! with the true slip force and hardening 350 nats lower. Searching every
 //! variant longer would let extensions fit noise the baseline cannot, so
-//! only the one the MDL names gets valley walks
+//! only the one the MDL names gets a ridge walk along each of its shape
+//! parameters ([`super::ridge`]) and valley walks
 //! ([`Search::valley_walks`]); it is then assessed again.
 
-use super::calibrate::{Budget, Calibration, Search, COARSE_MAX_DIMS, SLOPPY_STEPS};
+use super::calibrate::{Budget, Calibration, Scale, Search, COARSE_MAX_DIMS, SLOPPY_STEPS};
 use super::campaign_size::is_large;
 use super::cause::Cause;
 use super::executor::{ExecutorError, FeExecutor};
@@ -30,16 +31,21 @@ pub fn refine_walks(budget: &Budget, own: usize, work: f64) -> usize {
     }
 }
 
-/// FE runs planned for `walks` valley walks (a walk's probes and a local
-/// search of half the budget's).
-pub fn planned_runs(budget: &Budget, walks: usize) -> usize {
-    walks * (2 * SLOPPY_STEPS.len() + budget.local / 2)
+/// FE runs planned for refining an extension with `own` parameters of its
+/// own with `walks` valley walks (a walk's probes and a local search of
+/// half the budget's), after a ridge walk along each shape parameter at
+/// most and its local search.
+pub fn planned_runs(budget: &Budget, walks: usize, own: usize) -> usize {
+    let ridge = own.saturating_sub(1) * super::ridge::max_runs() + budget.local / 2;
+    ridge + walks * (2 * SLOPPY_STEPS.len() + budget.local / 2)
 }
 
 /// Continues the calibration `cal` of an extension on `runs` from its best
-/// point under `n_eff` with `walks` valley walks, each followed by a local
-/// search of `budget.local / 2` FE runs; `progress` hears the FE points
-/// evaluated so far. Returns whether it evaluated any.
+/// point under `n_eff`: a ridge walk along each of its own parameters but
+/// the onset ([`Search::ridge_walks`]) and a local search of
+/// `budget.local / 2` FE runs from where it gained, then `walks` valley
+/// walks, each followed by a local search as long; `progress` hears the FE
+/// points evaluated so far. Returns whether it evaluated any.
 #[allow(clippy::too_many_arguments)]
 pub fn refine(
     bundle: &Bundle,
@@ -58,9 +64,19 @@ pub fn refine(
     let own: Vec<usize> = (Cause::None.priors().len()..priors.len()).collect();
     let ev = Evaluation { bundle, cause: cal.cause, priors: &priors, runs, demand: cal.demand };
     let before = cal.points.len();
-    let start = (cal.points[best].u.clone(), Some(gn));
+    let mut start = (cal.points[best].u.clone(), Some(gn));
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
     let mut report = |done: usize| progress(done - before);
+    let onset = cal.cause.onset().and_then(|n| priors.iter().position(|p| p.name == n));
+    if let Some(onset) = onset {
+        if let Some(from) = search.ridge_walks(cal, &start.0, onset, &mut report)? {
+            let all: Vec<usize> = (0..priors.len()).collect();
+            let local = budget.local / 2;
+            let (u, gn) =
+                search.levenberg_marquardt(cal, Scale::Fine, from, &all, local, &mut report)?;
+            start = (u, gn.or(start.1));
+        }
+    }
     let (_, gn) = search.valley_walks(cal, start, walks, budget.local / 2, &mut report)?;
     cal.gauss_newton = gn;
     Ok(cal.points.len() > before)
@@ -88,9 +104,10 @@ mod tests {
     }
 
     #[test]
-    fn planned_runs_count_probes_and_a_half_local_search_per_walk() {
+    fn planned_runs_count_the_ridge_walks_and_probes_and_a_half_local_search_per_walk() {
         let b = Budget { local: 24, ..Budget::default() };
-        assert_eq!(planned_runs(&b, 2), 2 * (8 + 12));
-        assert_eq!(planned_runs(&b, 0), 0);
+        let ridge = crate::diagnose::ridge::max_runs();
+        assert_eq!(planned_runs(&b, 2, 2), ridge + 12 + 2 * (8 + 12));
+        assert_eq!(planned_runs(&b, 0, 3), 2 * ridge + 12);
     }
 }
