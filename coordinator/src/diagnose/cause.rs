@@ -278,7 +278,7 @@ impl Cause {
     pub fn linear_part(self) -> Option<LinearPart> {
         match self {
             Cause::ConnectionHysteresis => {
-                Some(LinearPart { onset: "yield_over_demand", linear: &["conn_stiffness_factor"] })
+                self.onset().map(|onset| LinearPart { onset, linear: &["conn_stiffness_factor"] })
             }
             _ => None,
         }
