@@ -69,17 +69,27 @@ pub fn refine(
     let mut report = |done: usize| progress(done - before);
     let onset = cal.cause.onset().and_then(|n| priors.iter().position(|p| p.name == n));
     if let Some(onset) = onset {
-        if let Some(from) = search.ridge_walks(cal, &start.0, onset, &mut report)? {
+        let walked = search.ridge_walks(cal, &start.0, onset, &mut report)?;
+        trace(cal, n_eff, walked.as_deref().unwrap_or(&start.0), "ridge walks");
+        if let Some(from) = walked {
             let all: Vec<usize> = (0..priors.len()).collect();
             let local = budget.local / 2;
             let (u, gn) =
                 search.levenberg_marquardt(cal, Scale::Fine, from, &all, local, &mut report)?;
             start = (u, gn.or(start.1));
+            trace(cal, n_eff, &start.0, "local search after the ridge walks");
         }
     }
-    let (_, gn) = search.valley_walks(cal, start, walks, budget.local / 2, &mut report)?;
+    let (end, gn) = search.valley_walks(cal, start, walks, budget.local / 2, &mut report)?;
+    trace(cal, n_eff, &end, "valley walks");
     cal.gauss_newton = gn;
     Ok(cal.points.len() > before)
+}
+
+/// Logs (debug) where a refinement stage left the search.
+fn trace(cal: &Calibration, n_eff: &[f64], u: &[f64], stage: &str) {
+    let f = super::calibrate::point_value(cal, u, n_eff);
+    tracing::debug!(cause = cal.cause.as_str(), stage, neg_log_lik = f, ?u);
 }
 
 #[cfg(test)]

@@ -15,18 +15,17 @@
 //! probe along the least-determined direction falls off a curved ridge;
 //! a walk that re-fits the onset on a fine window at each step stays on it.
 
-use super::calibrate::{evaluate_points, Calibration, Search};
+use super::calibrate::{evaluate_points, Calibration, Point, Search};
 use super::executor::ExecutorError;
 
 /// Step of the shape parameter between ridge points (unit cube).
 pub const RIDGE_STEP: f64 = 0.06;
 
 /// Ridge points per direction at most.
-pub const RIDGE_STEPS: usize = 4;
+pub const RIDGE_STEPS: usize = 6;
 
-/// Ridge points in a row worse than the one before that a direction goes
-/// on past: the profile is bumpy (a friction fit's ran −8153, −8149, then
-/// −8183 nats in steps of its hardening).
+/// Ridge points in a row worse than the one before, in the time histories
+/// and in their envelopes, that a direction goes on past.
 pub const RIDGE_PATIENCE: usize = 1;
 
 /// Onset probes per ridge point (odd: one at the predicted onset).
@@ -45,8 +44,29 @@ pub struct Ridge {
     pub shape: usize,
 }
 
-/// Evaluates −log L of a batch of unit-cube points (+∞: failed).
-pub type Evaluate<'f, E> = dyn FnMut(&[Vec<f64>]) -> Result<Vec<f64>, E> + 'f;
+/// What a ridge walk knows of a point: −log L of the time histories (its
+/// objective) and of their envelopes (its trend). The first is bumpy along
+/// a shape parameter that sets a post-slip or post-contact frequency: the
+/// phase of a 12 s record wraps, and a friction fit's profile along its
+/// hardening ran −8153, −8148, −8150, −8167, −8194 nats in steps of 0.06
+/// while the envelopes' fell steadily, −125 to −160.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Value {
+    /// −log L of the time histories (+∞: failed).
+    pub fit: f64,
+    /// −log L of the windowed RMS misfits (+∞: failed).
+    pub trend: f64,
+}
+
+impl Value {
+    /// Worse than `other` in the time histories and in their envelopes.
+    fn worse_than(&self, other: &Value) -> bool {
+        self.fit > other.fit && self.trend > other.trend
+    }
+}
+
+/// Evaluates a batch of unit-cube points.
+pub type Evaluate<'f, E> = dyn FnMut(&[Vec<f64>]) -> Result<Vec<Value>, E> + 'f;
 
 /// FE points a ridge walk evaluates at most.
 pub const fn max_runs() -> usize {
@@ -66,41 +86,43 @@ impl Search<'_, '_> {
         progress: &mut dyn FnMut(usize),
     ) -> Result<Option<Vec<f64>>, ExecutorError> {
         let n_eff = self.n_eff;
-        let f_u = super::calibrate::point_value(cal, u, n_eff);
+        let value = |p: &Point| Value { fit: p.neg_log_lik(n_eff), trend: p.coarse };
+        let f_u = cal.points.iter().rev().find(|p| p.u == u).map(value);
+        let f_u = f_u.unwrap_or(Value { fit: f64::INFINITY, trend: f64::INFINITY });
         let mut at = (u.to_vec(), f_u);
         let shapes: Vec<usize> = self.own.iter().copied().filter(|i| *i != onset).collect();
         for shape in shapes {
-            let mut eval = |us: &[Vec<f64>]| -> Result<Vec<f64>, ExecutorError> {
+            let mut eval = |us: &[Vec<f64>]| -> Result<Vec<Value>, ExecutorError> {
                 let points = evaluate_points(self.ev, us, self.exec)?;
-                let f = points.iter().map(|p| p.neg_log_lik(n_eff)).collect();
+                let f = points.iter().map(value).collect();
                 cal.points.extend(points);
                 progress(cal.points.len());
                 Ok(f)
             };
             at = walk_ridge(&at.0, at.1, Ridge { onset, shape }, &mut eval)?;
         }
-        Ok((at.1 < f_u - 0.01).then_some(at.0))
+        Ok((at.1.fit < f_u.fit - 0.01).then_some(at.0))
     }
 }
 
-/// Walks the ridge from `start` (−log L `f_start`) both ways along
+/// Walks the ridge from `start` (value `v_start`) both ways along
 /// `ridge.shape` in steps of [`RIDGE_STEP`]: at each step the onset is
 /// probed on [`ONSET_PROBES`] points around where the last two ridge points
 /// predict it (more beyond the window when the best probe is on its edge,
 /// and one at the vertex of a parabola through the best three), the other
 /// dimensions held at `start`; a direction ends at the cube's face, after
 /// [`RIDGE_STEPS`], or when more than [`RIDGE_PATIENCE`] ridge points in a
-/// row are each worse than the one before. `eval` returns −log L of a batch (+∞: failed).
-/// Returns the best point seen and its value (`start` when none beat it).
+/// row are each worse than the one before in both [`Value`]s. Returns the
+/// best point seen by −log L (`start` when none beat it).
 pub fn walk_ridge<E>(
     start: &[f64],
-    f_start: f64,
+    v_start: Value,
     ridge: Ridge,
     eval: &mut Evaluate<'_, E>,
-) -> Result<(Vec<f64>, f64), E> {
-    let mut best = (start.to_vec(), f_start);
+) -> Result<(Vec<f64>, Value), E> {
+    let mut best = (start.to_vec(), v_start);
     for dir in [-1.0, 1.0] {
-        let mut last = (start[ridge.shape], start[ridge.onset], f_start);
+        let mut last = (start[ridge.shape], start[ridge.onset], v_start);
         let (mut slope, mut worse) = (0.0, 0);
         for _ in 0..RIDGE_STEPS {
             let s = (last.0 + dir * RIDGE_STEP).clamp(0.0, 1.0);
@@ -109,11 +131,12 @@ pub fn walk_ridge<E>(
             }
             let centre = last.1 + slope * (s - last.0);
             let Some((u, f)) = refit_onset(start, ridge, s, centre, eval)? else { break };
-            if f < best.1 {
+            tracing::debug!(shape = s, onset = u[ridge.onset], ?f, "ridge point");
+            if f.fit < best.1.fit {
                 best = (u.clone(), f);
             }
             slope = (u[ridge.onset] - last.1) / (s - last.0);
-            worse = if f > last.2 { worse + 1 } else { 0 };
+            worse = if f.worse_than(&last.2) { worse + 1 } else { 0 };
             last = (s, u[ridge.onset], f);
             if worse > RIDGE_PATIENCE {
                 break;
@@ -133,7 +156,7 @@ fn refit_onset<E>(
     s: f64,
     centre: f64,
     eval: &mut Evaluate<'_, E>,
-) -> Result<Option<(Vec<f64>, f64)>, E> {
+) -> Result<Option<(Vec<f64>, Value)>, E> {
     let half = (ONSET_PROBES / 2) as f64;
     let offsets: Vec<f64> = (0..ONSET_PROBES).map(|j| (j as f64 - half) * ONSET_SPACING).collect();
     let mut seen = probe(start, ridge, s, centre, &offsets, eval)?;
@@ -155,9 +178,10 @@ fn refit_onset<E>(
 /// The onset at the vertex of the parabola through probe `k` and its
 /// neighbours (`seen` sorted by onset), when it is a minimum within one
 /// spacing of probe `k` and not already probed.
-fn vertex(seen: &[(Vec<f64>, f64)], k: usize, onset: usize) -> Option<f64> {
+fn vertex(seen: &[(Vec<f64>, Value)], k: usize, onset: usize) -> Option<f64> {
     let (lo, mid, hi) = (seen.get(k.checked_sub(1)?)?, &seen[k], seen.get(k + 1)?);
-    let x = quadratic_vertex([lo.0[onset], mid.0[onset], hi.0[onset]], [lo.1, mid.1, hi.1])?;
+    let f = [lo.1.fit, mid.1.fit, hi.1.fit];
+    let x = quadratic_vertex([lo.0[onset], mid.0[onset], hi.0[onset]], f)?;
     let near = (x - mid.0[onset]).abs() <= ONSET_SPACING;
     let new = seen.iter().all(|p| (p.0[onset] - x).abs() > 1e-4 * ONSET_SPACING);
     (near && new).then_some(x)
@@ -182,7 +206,7 @@ fn probe<E>(
     centre: f64,
     offsets: &[f64],
     eval: &mut Evaluate<'_, E>,
-) -> Result<Vec<(Vec<f64>, f64)>, E> {
+) -> Result<Vec<(Vec<f64>, Value)>, E> {
     let mut us: Vec<Vec<f64>> = Vec::new();
     for o in offsets {
         let mut u = start.to_vec();
@@ -199,11 +223,11 @@ fn probe<E>(
     Ok(us.into_iter().zip(f).collect())
 }
 
-/// Index of the lowest finite value.
-fn argmin(seen: &[(Vec<f64>, f64)]) -> Option<usize> {
+/// Index of the lowest finite −log L.
+fn argmin(seen: &[(Vec<f64>, Value)]) -> Option<usize> {
     (0..seen.len())
-        .filter(|k| seen[*k].1.is_finite())
-        .min_by(|a, b| seen[*a].1.total_cmp(&seen[*b].1))
+        .filter(|k| seen[*k].1.fit.is_finite())
+        .min_by(|a, b| seen[*a].1.fit.total_cmp(&seen[*b].1.fit))
 }
 
 #[cfg(test)]
@@ -223,15 +247,25 @@ mod tests {
         }
     }
 
+    /// A walk on `f` whose envelopes follow `f` too.
     fn walk(f: &dyn Fn(&[f64]) -> f64, start: &[f64]) -> (Vec<f64>, f64, usize) {
+        walk_with_trend(f, f, start)
+    }
+
+    fn walk_with_trend(
+        f: &dyn Fn(&[f64]) -> f64,
+        trend: &dyn Fn(&[f64]) -> f64,
+        start: &[f64],
+    ) -> (Vec<f64>, f64, usize) {
         let mut n = 0;
-        let mut eval = |us: &[Vec<f64>]| -> Result<Vec<f64>, Infallible> {
+        let value = |u: &[f64]| Value { fit: f(u), trend: trend(u) };
+        let mut eval = |us: &[Vec<f64>]| -> Result<Vec<Value>, Infallible> {
             n += us.len();
-            Ok(us.iter().map(|u| f(u)).collect())
+            Ok(us.iter().map(|u| value(u)).collect())
         };
         let ridge = Ridge { onset: 0, shape: 1 };
-        let (u, v) = walk_ridge(start, f(start), ridge, &mut eval).unwrap();
-        (u, v, n)
+        let (u, v) = walk_ridge(start, value(start), ridge, &mut eval).unwrap();
+        (u, v.fit, n)
     }
 
     #[test]
@@ -287,12 +321,34 @@ mod tests {
     }
 
     #[test]
+    fn a_walk_goes_on_through_a_bumpy_profile_while_the_envelopes_improve() {
+        // Depth dips three times in a row on the way to the deepest point
+        // at shape 0.5; the envelopes fall steadily towards it.
+        let f = |u: &[f64]| {
+            let depth = match u[1] {
+                s if s > 0.82 => 100.0,
+                s if s > 0.55 => 90.0 - 10.0 * (0.82 - s),
+                s if s > 0.45 => 200.0,
+                _ => 50.0,
+            };
+            -depth * (-((u[0] - 0.5) / 0.01).powi(2)).exp()
+        };
+        let trend = |u: &[f64]| (u[1] - 0.5).powi(2) + (u[0] - 0.5).powi(2);
+        let (u, v, _) = walk_with_trend(&f, &trend, &[0.5, 0.85, 0.5]);
+        assert!(u[1] < 0.56 && v < -150.0, "{u:?} {v}");
+        // Without the envelopes' trend the dips end the walk.
+        let (u, v, _) = walk(&f, &[0.5, 0.85, 0.5]);
+        assert!(u[1] > 0.8 && v > -150.0, "{u:?} {v}");
+    }
+
+    #[test]
     fn failed_points_end_the_direction() {
-        let mut eval =
-            |us: &[Vec<f64>]| -> Result<Vec<f64>, Infallible> { Ok(vec![f64::INFINITY; us.len()]) };
+        let inf = Value { fit: f64::INFINITY, trend: f64::INFINITY };
+        let mut eval = |us: &[Vec<f64>]| -> Result<Vec<Value>, Infallible> { Ok(vec![inf; us.len()]) };
         let ridge = Ridge { onset: 0, shape: 1 };
-        let (u, v) = walk_ridge(&[0.5, 0.5], -1.0, ridge, &mut eval).unwrap();
-        assert_eq!((u, v), (vec![0.5, 0.5], -1.0));
+        let start = Value { fit: -1.0, trend: -1.0 };
+        let (u, v) = walk_ridge(&[0.5, 0.5], start, ridge, &mut eval).unwrap();
+        assert_eq!((u, v), (vec![0.5, 0.5], start));
     }
 
     #[test]
