@@ -444,6 +444,20 @@ pub(super) struct Search<'e, 'a> {
 const COARSE_STARTS: usize = 2;
 
 impl Search<'_, '_> {
+    /// Runs the FE model at `us`, keeps the points in `cal` and tells
+    /// `progress` how many it holds; returns the new points.
+    pub(super) fn evaluate_into<'c>(
+        &mut self,
+        cal: &'c mut Calibration,
+        us: &[Vec<f64>],
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<&'c [Point], ExecutorError> {
+        let first = cal.points.len();
+        cal.points.extend(evaluate_points(self.ev, us, &mut *self.exec)?);
+        progress(cal.points.len());
+        Ok(&cal.points[first..])
+    }
+
     /// Coarse-to-fine start of an extension's final search: Levenberg–Marquardt
     /// on the windowed RMS misfits over the extension's own parameters (the
     /// baseline's stay at its estimate: the final search moves them) from the
@@ -508,15 +522,13 @@ impl Search<'_, '_> {
             .collect();
         let n_eff = self.n_eff;
         let f_u = point_value(cal, u, n_eff);
-        let points = evaluate_points(self.ev, &probes, self.exec)?;
-        let best = points
+        let best = self
+            .evaluate_into(cal, &probes, progress)?
             .iter()
             .map(|p| (p.neg_log_lik(n_eff), &p.u))
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .filter(|(f, _)| *f < f_u - 0.01)
             .map(|(_, u)| u.clone());
-        cal.points.extend(points);
-        progress(cal.points.len());
         Ok(best)
     }
 

@@ -12,7 +12,7 @@
 //! [`CONTENTION_NATS`] of the best variant calibrated before it, in a
 //! campaign that is not large ([`super::campaign_size::LARGE_WORK`]).
 
-use super::calibrate::{evaluate_points, proposals, Budget, Calibration, Scale, Search, SearchEnd};
+use super::calibrate::{proposals, Budget, Calibration, Scale, Search, SearchEnd};
 use super::campaign_size::is_large;
 use super::executor::ExecutorError;
 use super::fit::DAMPING_RATIO;
@@ -107,8 +107,7 @@ impl Search<'_, '_> {
             (0..design.n()).map(|i| put(design.row(i), path.held[damping])).collect();
         let first = cal.points.len();
         for chunk in us.chunks(budget.threads.max(1) * 2) {
-            cal.points.extend(evaluate_points(self.ev, chunk, &mut *self.exec)?);
-            progress(cal.points.len());
+            self.evaluate_into(cal, chunk, progress)?;
         }
         let best = |cal: &Calibration| {
             let f = cal.objective(n_eff);
@@ -124,8 +123,7 @@ impl Search<'_, '_> {
             let seed = budget.seed + 100 + round as u64;
             let next = proposals(&gp, dims.len(), at.as_deref(), budget.per_round, seed);
             let next: Vec<Vec<f64>> = next.iter().map(|x| put(x, 1.0)).collect();
-            cal.points.extend(evaluate_points(self.ev, &next, &mut *self.exec)?);
-            progress(cal.points.len());
+            self.evaluate_into(cal, &next, progress)?;
         }
         cal.free = own;
         let Some(k) = best(cal) else { return Ok(None) };

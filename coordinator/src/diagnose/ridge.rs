@@ -15,7 +15,7 @@
 //! probe along the least-determined direction falls off a curved ridge;
 //! a walk that re-fits the onset on a fine window at each step stays on it.
 
-use super::calibrate::{evaluate_points, Calibration, Point, Search};
+use super::calibrate::{Calibration, Point, Search};
 use super::executor::ExecutorError;
 
 /// Step of the shape parameter between ridge points (unit cube).
@@ -93,11 +93,7 @@ impl Search<'_, '_> {
         let shapes: Vec<usize> = self.own.iter().copied().filter(|i| *i != onset).collect();
         for shape in shapes {
             let mut eval = |us: &[Vec<f64>]| -> Result<Vec<Value>, ExecutorError> {
-                let points = evaluate_points(self.ev, us, self.exec)?;
-                let f = points.iter().map(value).collect();
-                cal.points.extend(points);
-                progress(cal.points.len());
-                Ok(f)
+                Ok(self.evaluate_into(cal, us, progress)?.iter().map(value).collect())
             };
             at = walk_ridge(&at.0, at.1, Ridge { onset, shape }, &mut eval)?;
         }
