@@ -53,7 +53,7 @@ pub struct Args {
     /// diagnosis names, after every variant is calibrated, each followed by
     /// another local search (~20 FE runs each; at most one in a large
     /// campaign, none there for connection hysteresis); above 0 a ridge
-    /// walk along each shape parameter comes first (~20 to 40 FE runs).
+    /// walk along each shape parameter comes first (~30 to 65 FE runs each).
     #[arg(long, default_value_t = 2)]
     pub refine_walks: usize,
     /// When connection hysteresis is also calibrated along a second path

@@ -113,6 +113,11 @@ impl Calibration {
         self.points.iter().map(|p| p.neg_log_lik(n_eff)).collect()
     }
 
+    /// The last evaluation of unit-cube point `u`, if any.
+    pub fn last_at(&self, u: &[f64]) -> Option<&Point> {
+        self.points.iter().rev().find(|p| p.u == u)
+    }
+
     /// Index of the best evaluated point under `n_eff`.
     pub fn best(&self, n_eff: &[f64]) -> Option<usize> {
         let f = self.objective(n_eff);
@@ -400,7 +405,7 @@ impl Stages {
 
 /// −log L at the last evaluation of point `u` (+∞ when never evaluated).
 pub(super) fn point_value(cal: &Calibration, u: &[f64], n_eff: &[f64]) -> f64 {
-    cal.points.iter().rev().find(|p| p.u == u).map_or(f64::INFINITY, |p| p.neg_log_lik(n_eff))
+    cal.last_at(u).map_or(f64::INFINITY, |p| p.neg_log_lik(n_eff))
 }
 
 /// Where a local search ended and its Gauss–Newton matrix there.

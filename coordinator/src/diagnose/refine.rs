@@ -89,7 +89,8 @@ pub fn refine(
 /// Logs (debug) where a refinement stage left the search.
 fn trace(cal: &Calibration, n_eff: &[f64], u: &[f64], stage: &str) {
     let f = super::calibrate::point_value(cal, u, n_eff);
-    tracing::debug!(cause = cal.cause.as_str(), stage, neg_log_lik = f, ?u);
+    let fe_points = cal.points.len();
+    tracing::debug!(cause = cal.cause.as_str(), stage, fe_points, neg_log_lik = f, ?u);
 }
 
 #[cfg(test)]

@@ -87,8 +87,7 @@ impl Search<'_, '_> {
     ) -> Result<Option<Vec<f64>>, ExecutorError> {
         let n_eff = self.n_eff;
         let value = |p: &Point| Value { fit: p.neg_log_lik(n_eff), trend: p.coarse };
-        let f_u = cal.points.iter().rev().find(|p| p.u == u).map(value);
-        let f_u = f_u.unwrap_or(Value { fit: f64::INFINITY, trend: f64::INFINITY });
+        let f_u = cal.last_at(u).map_or(Value { fit: f64::INFINITY, trend: f64::INFINITY }, value);
         let mut at = (u.to_vec(), f_u);
         let shapes: Vec<usize> = self.own.iter().copied().filter(|i| *i != onset).collect();
         for shape in shapes {
@@ -340,7 +339,8 @@ mod tests {
     #[test]
     fn failed_points_end_the_direction() {
         let inf = Value { fit: f64::INFINITY, trend: f64::INFINITY };
-        let mut eval = |us: &[Vec<f64>]| -> Result<Vec<Value>, Infallible> { Ok(vec![inf; us.len()]) };
+        let mut eval =
+            |us: &[Vec<f64>]| -> Result<Vec<Value>, Infallible> { Ok(vec![inf; us.len()]) };
         let ridge = Ridge { onset: 0, shape: 1 };
         let start = Value { fit: -1.0, trend: -1.0 };
         let (u, v) = walk_ridge(&[0.5, 0.5], start, ridge, &mut eval).unwrap();
