@@ -125,6 +125,13 @@ pub fn diagnose_dir(
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",
         v.cause, v.gain, v.baseline_validation_error, v.extended_validation_error, v.fe_points
     );
+    if coordinator::diagnose::report::unconfirmed_note(&d).is_some() {
+        eprintln!(
+            "warning: {} predicts the validation runs no better than the baseline: the cause \
+             is not confirmed (see the report's verdict)",
+            v.cause
+        );
+    }
     if let Some(store) = &plan.store {
         eprintln!(
             "store: {} ({} FE evaluations run now on {} {} workers, {} re-used; {} run \

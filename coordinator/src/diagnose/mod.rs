@@ -22,6 +22,7 @@ pub mod mdl;
 pub mod noise_floor;
 pub mod pipeline;
 pub mod posterior;
+pub mod reach;
 pub mod refine;
 pub mod report;
 pub mod report_posterior;

@@ -5,9 +5,11 @@
 //! vs baseline vs extended histories at the sensors where the two models
 //! differ most.
 
+use super::cause::Cause;
 use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated};
 use super::pipeline::{Diagnosis, LINEAR_PART_NATS};
+use super::reach::validation_reach;
 use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
 use super::symptoms::{half_cycle_peaks, rms};
@@ -38,7 +40,7 @@ pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence) -> String {
             d.fe_points
         ),
         sections: vec![
-            verdict_section(d),
+            verdict_section(b, d),
             specimen_section(b, &telling),
             symptoms_section(e),
             comparison_section(d),
@@ -50,7 +52,7 @@ pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence) -> String {
     page.to_html()
 }
 
-fn verdict_section(d: &Diagnosis) -> Section {
+fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
     let chosen = d.candidates.iter().find(|c| c.selected);
     let mut blocks = vec![Block::KeyValues(vec![
         ("cause".into(), d.cause.as_str().into()),
@@ -75,6 +77,8 @@ fn verdict_section(d: &Diagnosis) -> Section {
             num(c.validation_nrmse),
         )));
     }
+    blocks.extend(unconfirmed_note(d));
+    blocks.extend(reach_note(b, d));
     if d.calibration_runs == d.validation_runs {
         blocks.push(Block::Note {
             kind: NoteKind::Warning,
@@ -83,6 +87,59 @@ fn verdict_section(d: &Diagnosis) -> Section {
         });
     }
     Section { id: "verdict".into(), heading: "Verdict".into(), blocks }
+}
+
+/// Extended over baseline validation error above which an extension's
+/// prediction is called far worse than the baseline's (gain below −1).
+const FAR_WORSE: f64 = 2.0;
+
+/// A warning when an extension is named but predicts the validation runs
+/// no better than the baseline: its cause is not confirmed by the runs it
+/// was not calibrated on.
+pub fn unconfirmed_note(d: &Diagnosis) -> Option<Block> {
+    let (base, ext) = (d.baseline_validation_error, d.extended_validation_error);
+    if d.cause == Cause::None || !(base.is_finite() && ext.is_finite()) || ext < base {
+        return None;
+    }
+    let mut text = format!(
+        "{} fits the calibration runs better than the baseline, but it predicts the \
+         validation runs no better (validation error {} against {}, gain {:.3}): the runs it \
+         was not calibrated on do not confirm this cause. The calibration runs may not \
+         exercise the physics the validation runs show, or the extension may stand in for \
+         another misfit of the model. Treat the cause as unconfirmed.",
+        d.cause.as_str(),
+        num(ext),
+        num(base),
+        d.gain
+    );
+    if ext > FAR_WORSE * base {
+        text.push_str(
+            " Its prediction is far worse than the baseline's: the validation runs drive it \
+             beyond what the calibration runs constrain.",
+        );
+    }
+    Some(Block::Note { kind: NoteKind::Warning, text })
+}
+
+/// Validation peak over calibration peak above which the report says the
+/// validation runs go beyond the calibration runs.
+pub const REACH_NOTE: f64 = 1.25;
+
+/// A note when the validation runs drive the specimen well beyond the
+/// calibration runs ([`validation_reach`]).
+fn reach_note(b: &Bundle, d: &Diagnosis) -> Option<Block> {
+    let r = validation_reach(b, &d.calibration_runs, &d.validation_runs)?;
+    (r.ratio > REACH_NOTE).then(|| Block::Note {
+        kind: NoteKind::Info,
+        text: format!(
+            "The validation runs drive the specimen beyond the calibration runs: sensor {}'s \
+             peak in them is {:.2} times its largest in the calibration runs. Physics that acts \
+             only above the calibration runs' amplitude (a gap that closes, a slip force that \
+             is reached) cannot be calibrated on them; the gain measures how well each model \
+             extrapolates.",
+            r.sensor, r.ratio
+        ),
+    })
 }
 
 fn specimen_section(b: &Bundle, telling: &[(usize, String)]) -> Section {
@@ -440,4 +497,65 @@ fn zoomed(
         log_y: false,
         size: PlotSize::default(),
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::testkit::pounding_diagnosis;
+
+    fn warning_text(b: Option<Block>) -> Option<String> {
+        b.map(|b| match b {
+            Block::Note { kind: NoteKind::Warning, text } => text,
+            other => panic!("not a warning: {other:?}"),
+        })
+    }
+
+    #[test]
+    fn a_named_cause_the_validation_runs_do_not_confirm_is_flagged() {
+        let (_, mut d) = pounding_diagnosis(true, true);
+        d.baseline_validation_error = 0.2;
+        d.extended_validation_error = 0.05;
+        d.gain = 0.75;
+        assert_eq!(warning_text(unconfirmed_note(&d)), None, "a confirmed cause");
+        d.extended_validation_error = 0.3;
+        d.gain = -0.5;
+        let text = warning_text(unconfirmed_note(&d)).expect("an unconfirmed cause");
+        assert!(text.contains("perimeter-pounding") && text.contains("gain -0.500"), "{text}");
+        assert!(text.contains("unconfirmed") && !text.contains("far worse"), "{text}");
+        d.extended_validation_error = 4.9;
+        d.gain = 1.0 - 4.9 / 0.2;
+        let text = warning_text(unconfirmed_note(&d)).expect("an unconfirmed cause");
+        assert!(text.contains("far worse"), "{text}");
+        // The baseline named, or no validation errors: nothing to confirm.
+        d.cause = Cause::None;
+        assert_eq!(warning_text(unconfirmed_note(&d)), None);
+        let (_, d) = pounding_diagnosis(true, true);
+        assert_eq!(warning_text(unconfirmed_note(&d)), None, "NaN errors");
+    }
+
+    #[test]
+    fn the_verdict_says_when_validation_runs_go_beyond_the_calibration_runs() {
+        // Without contact the validation run (band noise of rms 0.6) moves
+        // the oscillator further than the strongest calibration run (0.3).
+        let (b, d) = pounding_diagnosis(false, true);
+        let r = validation_reach(&b, &d.calibration_runs, &d.validation_runs).unwrap();
+        assert!(r.ratio > REACH_NOTE, "{r:?}");
+        let notes: Vec<String> = verdict_section(&b, &d)
+            .blocks
+            .into_iter()
+            .filter_map(|bl| match bl {
+                Block::Note { kind: NoteKind::Info, text } => Some(text),
+                _ => None,
+            })
+            .collect();
+        let beyond = format!("sensor {}'s peak in them is {:.2} times", r.sensor, r.ratio);
+        assert!(notes.iter().any(|t| t.contains(&beyond)), "{notes:?}");
+        // Validation inside the calibration range: no note.
+        let mut inside = d.clone();
+        inside.calibration_runs = vec![2];
+        inside.validation_runs = vec![0];
+        let notes = verdict_section(&b, &inside).blocks;
+        assert!(!notes.iter().any(|bl| matches!(bl, Block::Note { kind: NoteKind::Info, .. })));
+    }
 }
