@@ -8,7 +8,7 @@
 use super::cause::Cause;
 use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated};
-use super::pipeline::{Diagnosis, LINEAR_PART_NATS};
+use super::pipeline::{Diagnosis, LINEAR_PART_NATS, MISFIT_NATS, TIE_NATS};
 use super::reach::validation_reach;
 use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
@@ -64,7 +64,8 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
     if let Some(c) = chosen {
         blocks.push(Block::Paragraph(format!(
             "Every candidate model was calibrated on the calibration runs and scored by its \
-             minimum description length; {} has the lowest ({:.1} nats). Validation errors are \
+             minimum description length; {} is chosen ({:.1} nats: the lowest, where an \
+             extension must beat the baseline by {MISFIT_NATS} nats). Validation errors are \
              the mean over the sensors of the validation runs of the normalised RMS error in \
              excess of the sensor noise, √max(MSE − σ², 0) / √(MS − σ²) (MSE of simulated − \
              measured, MS of measured), 0 for a model that misses by the noise alone; each \
@@ -280,6 +281,7 @@ fn comparison_section(d: &Diagnosis) -> Section {
         ]
         .into_iter()
         .chain(linear_part_notes(d))
+        .chain(misfit_note(d))
         .collect(),
     }
 }
@@ -308,6 +310,33 @@ fn linear_part_notes(d: &Diagnosis) -> Vec<Block> {
             }
         })
         .collect()
+}
+
+/// A note when the baseline is kept although an extension's MDL is lower,
+/// by less than [`MISFIT_NATS`].
+fn misfit_note(d: &Diagnosis) -> Option<Block> {
+    let base = d.candidates.first()?.mdl.as_ref()?.total;
+    if d.cause != Cause::None {
+        return None;
+    }
+    let (c, total) = d
+        .candidates
+        .iter()
+        .filter(|c| c.cause != Cause::None)
+        .filter_map(|c| Some((c, c.mdl.as_ref()?.total)))
+        .filter(|(c, total)| c.linear_part_mdl.is_none_or(|l| *total <= l - LINEAR_PART_NATS))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    (base - total > TIE_NATS).then(|| Block::Note {
+        kind: NoteKind::Info,
+        text: format!(
+            "{}'s MDL is {:.1} nats below the baseline's, less than the {MISFIT_NATS} nats an \
+             extension must win by: a baseline that only approximates the specimen leaves a \
+             misfit that any extension's extra freedom takes a few tens of nats from, so the \
+             baseline is kept.",
+            c.cause.as_str(),
+            base - total
+        ),
+    })
 }
 
 fn parameters_section(d: &Diagnosis) -> Section {
@@ -534,6 +563,33 @@ mod tests {
         assert_eq!(warning_text(unconfirmed_note(&d)), None);
         let (_, d) = pounding_diagnosis(true, true);
         assert_eq!(warning_text(unconfirmed_note(&d)), None, "NaN errors");
+    }
+
+    #[test]
+    fn a_baseline_kept_against_a_lower_mdl_says_why() {
+        use crate::diagnose::mdl::Mdl;
+        let (_, mut d) = pounding_diagnosis(false, true);
+        let mdl = |total| Mdl {
+            fit: total,
+            parametric: 0.0,
+            geometric: 0.0,
+            geometric_se: 0.0,
+            total,
+            k: 2,
+            n_eff: 1e4,
+        };
+        d.candidates[0].mdl = Some(mdl(-100.0));
+        d.candidates[1].mdl = Some(mdl(-130.0));
+        let text = match misfit_note(&d) {
+            Some(Block::Note { kind: NoteKind::Info, text }) => text,
+            other => panic!("{other:?}"),
+        };
+        assert!(text.starts_with("perimeter-pounding's MDL is 30.0 nats below"), "{text}");
+        d.candidates[1].mdl = Some(mdl(-100.5));
+        assert!(misfit_note(&d).is_none(), "a tie needs no word");
+        d.cause = Cause::PerimeterPounding;
+        d.candidates[1].mdl = Some(mdl(-300.0));
+        assert!(misfit_note(&d).is_none(), "an extension named");
     }
 
     #[test]
