@@ -107,6 +107,16 @@ impl CandidateResult {
             posterior: None,
         }
     }
+
+    /// Its MDL if it is in the running: None without one, or when it does
+    /// not beat its linear part by [`LINEAR_PART_NATS`].
+    pub fn contending_mdl(&self) -> Option<f64> {
+        let total = self.mdl.as_ref()?.total;
+        match self.linear_part_mdl {
+            Some(linear) if total > linear - LINEAR_PART_NATS => None,
+            _ => Some(total),
+        }
+    }
 }
 
 /// The whole diagnosis.
@@ -380,12 +390,8 @@ pub const MISFIT_NATS: f64 = 50.0;
 fn select(results: &[CandidateResult], allowance: f64) -> usize {
     let m = |k: usize| {
         let r = &results[k];
-        let total = r.mdl.as_ref().map_or(f64::INFINITY, |m| m.total);
-        match r.linear_part_mdl {
-            Some(linear) if total > linear - LINEAR_PART_NATS => f64::INFINITY,
-            _ if r.cause == Cause::None => total - allowance,
-            _ => total,
-        }
+        let lowered = if r.cause == Cause::None { allowance } else { 0.0 };
+        r.contending_mdl().map_or(f64::INFINITY, |total| total - lowered)
     };
     let best = (0..results.len()).map(m).fold(f64::INFINITY, f64::min);
     (0..results.len())

@@ -323,8 +323,7 @@ fn misfit_note(d: &Diagnosis) -> Option<Block> {
         .candidates
         .iter()
         .filter(|c| c.cause != Cause::None)
-        .filter_map(|c| Some((c, c.mdl.as_ref()?.total)))
-        .filter(|(c, total)| c.linear_part_mdl.is_none_or(|l| *total <= l - LINEAR_PART_NATS))
+        .filter_map(|c| Some((c, c.contending_mdl()?)))
         .min_by(|a, b| a.1.total_cmp(&b.1))?;
     (base - total > TIE_NATS).then(|| Block::Note {
         kind: NoteKind::Info,
