@@ -76,6 +76,9 @@ pub fn to_bundle_units(kind: bundle::SensorKind) -> f64 {
     }
 }
 
+/// (sensor id, samples) for every sensor, in the bundle's internal units.
+pub type SensorSeries = Vec<(String, Vec<f64>)>;
+
 /// One simulated run in the bundle's internal units: (sensor id, samples)
 /// for every sensor, plus the simulation's frequencies and spring peaks.
 pub fn simulate_run(
@@ -84,7 +87,7 @@ pub fn simulate_run(
     sensors: &[bundle::Sensor],
     input: &BaseInput,
     opts: &fe::ceiling::SimOptions,
-) -> Result<(Vec<(String, Vec<f64>)>, fe::ceiling::Simulation), fe::ceiling::CeilingError> {
+) -> Result<(SensorSeries, fe::ceiling::Simulation), fe::ceiling::CeilingError> {
     let fe_sensors: Vec<Sensor> = sensors.iter().map(fe_sensor).collect();
     let sim = fe::ceiling::simulate(spec, params, input, &fe_sensors, opts, &mut |_| {})?;
     Ok((bundle_series(sensors, &sim), sim))
@@ -92,10 +95,7 @@ pub fn simulate_run(
 
 /// A simulation's sensor histories in the bundle's internal units:
 /// (sensor id, samples) for every sensor.
-pub fn bundle_series(
-    sensors: &[bundle::Sensor],
-    sim: &fe::ceiling::Simulation,
-) -> Vec<(String, Vec<f64>)> {
+pub fn bundle_series(sensors: &[bundle::Sensor], sim: &fe::ceiling::Simulation) -> SensorSeries {
     sensors
         .iter()
         .zip(&sim.sensors)

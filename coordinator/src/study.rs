@@ -489,6 +489,52 @@ fn check_model(study: &Study) -> Result<(), String> {
     Ok(())
 }
 
+/// Replaces a `[model.excitation] file = "FILE"` (a record CSV, relative to
+/// the study file or else to the working directory) by its text as `csv`,
+/// for the same reasons as [`inline_spec_file`].
+fn inline_record_file(
+    options: &mut serde_json::Map<String, serde_json::Value>,
+    study_path: &Path,
+    problems: &mut Vec<String>,
+) {
+    let Some(serde_json::Value::Object(ex)) = options.get_mut("excitation") else { return };
+    let Some(serde_json::Value::String(file)) = ex.get("file").cloned() else { return };
+    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
+    let found = if beside.is_file() { beside } else { PathBuf::from(&file) };
+    match std::fs::read_to_string(&found) {
+        Ok(text) => {
+            ex.remove("file");
+            ex.insert("csv".into(), serde_json::Value::String(text));
+        }
+        Err(e) => problems.push(format!(
+            "model.excitation.file = {file:?}: cannot read it beside the study file or in the working directory ({e})"
+        )),
+    }
+}
+
+/// Replaces a `[model] spec = "FILE"` (a specimen TOML, relative to the study
+/// file or else to the working directory) by its text as `spec_toml`, so that
+/// workers on other machines need no copy and the study hash covers the
+/// specimen itself.
+fn inline_spec_file(
+    options: &mut serde_json::Map<String, serde_json::Value>,
+    study_path: &Path,
+    problems: &mut Vec<String>,
+) {
+    let Some(serde_json::Value::String(file)) = options.get("spec").cloned() else { return };
+    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
+    let found = if beside.is_file() { beside } else { PathBuf::from(&file) };
+    match std::fs::read_to_string(&found) {
+        Ok(text) => {
+            options.remove("spec");
+            options.insert("spec_toml".into(), serde_json::Value::String(text));
+        }
+        Err(e) => problems.push(format!(
+            "model.spec = {file:?}: cannot read it beside the study file or in the working directory ({e})"
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -615,51 +661,5 @@ seed = 1
             distribution: Distribution::LogUniform,
         };
         assert!((p.from_unit(0.5) - 10.0).abs() < 1e-12);
-    }
-}
-
-/// Replaces a `[model.excitation] file = "FILE"` (a record CSV, relative to
-/// the study file or else to the working directory) by its text as `csv`,
-/// for the same reasons as [`inline_spec_file`].
-fn inline_record_file(
-    options: &mut serde_json::Map<String, serde_json::Value>,
-    study_path: &Path,
-    problems: &mut Vec<String>,
-) {
-    let Some(serde_json::Value::Object(ex)) = options.get_mut("excitation") else { return };
-    let Some(serde_json::Value::String(file)) = ex.get("file").cloned() else { return };
-    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
-    let found = if beside.is_file() { beside } else { PathBuf::from(&file) };
-    match std::fs::read_to_string(&found) {
-        Ok(text) => {
-            ex.remove("file");
-            ex.insert("csv".into(), serde_json::Value::String(text));
-        }
-        Err(e) => problems.push(format!(
-            "model.excitation.file = {file:?}: cannot read it beside the study file or in the working directory ({e})"
-        )),
-    }
-}
-
-/// Replaces a `[model] spec = "FILE"` (a specimen TOML, relative to the study
-/// file or else to the working directory) by its text as `spec_toml`, so that
-/// workers on other machines need no copy and the study hash covers the
-/// specimen itself.
-fn inline_spec_file(
-    options: &mut serde_json::Map<String, serde_json::Value>,
-    study_path: &Path,
-    problems: &mut Vec<String>,
-) {
-    let Some(serde_json::Value::String(file)) = options.get("spec").cloned() else { return };
-    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
-    let found = if beside.is_file() { beside } else { PathBuf::from(&file) };
-    match std::fs::read_to_string(&found) {
-        Ok(text) => {
-            options.remove("spec");
-            options.insert("spec_toml".into(), serde_json::Value::String(text));
-        }
-        Err(e) => problems.push(format!(
-            "model.spec = {file:?}: cannot read it beside the study file or in the working directory ({e})"
-        )),
     }
 }

@@ -10,6 +10,7 @@
 //!   id), results, hand-backs and Goodbye; the coordinator subscribes before
 //!   it publishes the welcome, so no Hello goes out unread;
 //! - `R/<sweep>/task/<worker>`: one per worker, the coordinator publishes.
+//!
 //! Overwriting of unread samples is off and buffers exceed the farm's
 //! window, so no task or result is dropped. Liveness is iceoryx2's node
 //! monitoring, by node id (names may repeat; a restarted process has a new

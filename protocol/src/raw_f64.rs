@@ -23,7 +23,7 @@ pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error
 
 /// Samples from a little-endian byte image; `None` unless whole samples.
 pub fn from_le_bytes(bytes: &[u8]) -> Option<Vec<f64>> {
-    if bytes.len() % 8 != 0 {
+    if !bytes.len().is_multiple_of(8) {
         return None;
     }
     let mut out = vec![0.0f64; bytes.len() / 8];

@@ -128,7 +128,7 @@ fn run_model(a: &RunArgs) -> Result<()> {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
     let mut observer = |r: &fe::transient::StepReport| {
-        if r.step % 50 == 0 || r.step == r.n_steps {
+        if r.step.is_multiple_of(50) || r.step == r.n_steps {
             bar.set_length(r.n_steps as u64);
             bar.set_position(r.step as u64);
         }

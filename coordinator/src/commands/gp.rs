@@ -183,6 +183,9 @@ pub fn sha256(x: &[f64], y: &[f64]) -> String {
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// (kernel name, LML or `None` if the fit failed) for every kernel tried.
+type KernelLmls = Vec<(String, Option<f64>)>;
+
 /// Fit the requested kernel (or every kernel for `auto`, keeping the best LML).
 fn fit_output(
     x: &[f64],
@@ -190,7 +193,7 @@ fn fit_output(
     y: &[f64],
     kernel: &str,
     base: &GpSettings,
-) -> anyhow::Result<(Gp, Vec<(String, Option<f64>)>)> {
+) -> anyhow::Result<(Gp, KernelLmls)> {
     let kinds: Vec<KernelKind> = if kernel == "auto" {
         KernelKind::ALL.to_vec()
     } else {

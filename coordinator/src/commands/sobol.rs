@@ -67,8 +67,11 @@ struct Report {
     screening: stats::sobol::screening::Screening,
 }
 
+/// A model output as a function of one input point.
+type Evaluator = Box<dyn Fn(&[f64]) -> Vec<f64>>;
+
 /// Problem and evaluator of the GP emulator of a dataset's output.
-fn emulator(a: &Args) -> anyhow::Result<(Problem, Box<dyn Fn(&[f64]) -> Vec<f64>>, String)> {
+fn emulator(a: &Args) -> anyhow::Result<(Problem, Evaluator, String)> {
     let output = a.output.clone().context("--output is required with --store or --csv")?;
     let (table, source, inputs) = match (&a.store, &a.csv) {
         (Some(s), _) => {
@@ -115,9 +118,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if a.n < 2 {
         bail!("--n {}: expected at least 2", a.n);
     }
-    let (problem, eval, source): (Problem, Box<dyn Fn(&[f64]) -> Vec<f64>>, String) = match &a
-        .function
-    {
+    let (problem, eval, source): (Problem, Evaluator, String) = match &a.function {
         Some(name) => {
             let p = functions::problem(name).with_context(|| {
                 format!("--function {name}: expected ishigami, sobol-g or borehole")

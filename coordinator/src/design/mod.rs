@@ -25,11 +25,7 @@ pub struct UnitDesign {
 impl UnitDesign {
     /// Number of points.
     pub fn n(&self) -> usize {
-        if self.d == 0 {
-            0
-        } else {
-            self.x.len() / self.d
-        }
+        self.x.len().checked_div(self.d).unwrap_or(0)
     }
 
     /// Point `i` as a slice of `d` coordinates.

@@ -48,7 +48,7 @@ pub const CONNECTION_GROUP: &str = "connection_axial";
 pub const DAMPING_RATIO: &str = "damping_ratio";
 
 /// One simulated run at a parameter point: (sensor id, samples) in bundle units.
-pub type Simulated = Vec<(String, Vec<f64>)>;
+pub type Simulated = crate::specimen::SensorSeries;
 
 /// Model variant, parameter point and the data it is judged on.
 pub struct Evaluation<'a> {

@@ -72,7 +72,7 @@ pub fn transfer_h1(
     if input.len() != response.len() {
         return Err(SpectrumError::Lengths { input: input.len(), response: response.len() });
     }
-    if !(dt_s > 0.0) {
+    if dt_s.is_nan() || dt_s <= 0.0 {
         return Err(SpectrumError::Step(dt_s));
     }
     let n = input.len();

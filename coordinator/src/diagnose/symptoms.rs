@@ -91,8 +91,8 @@ pub fn bridge_gaps(x: &[f64]) -> Option<Vec<f64>> {
     out[last + 1..].fill(x[last]);
     for w in known.windows(2) {
         let (a, b) = (w[0], w[1]);
-        for i in a + 1..b {
-            out[i] = x[a] + (x[b] - x[a]) * (i - a) as f64 / (b - a) as f64;
+        for (i, o) in (a + 1..b).zip(&mut out[a + 1..b]) {
+            *o = x[a] + (x[b] - x[a]) * (i - a) as f64 / (b - a) as f64;
         }
     }
     Some(out)
@@ -134,7 +134,7 @@ pub fn half_cycle_peaks(x: &[f64]) -> Vec<f64> {
 pub fn plateau(disp: &[f64], gap: f64) -> Option<Plateau> {
     let peaks = half_cycle_peaks(disp);
     let top = peaks.iter().copied().fold(0.0f64, f64::max);
-    if top <= 0.0 || !(gap > 0.0) {
+    if top <= 0.0 || gap.is_nan() || gap <= 0.0 {
         return None;
     }
     let large = peaks.iter().filter(|p| **p >= 0.5 * top).count();

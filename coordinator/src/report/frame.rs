@@ -243,7 +243,7 @@ fn draw_x_ticks(svg: &mut Svg, x: &Axis, top: f64, bottom: f64) {
             continue;
         }
         svg.line(p, bottom, p, bottom + 4.0, Stroke::solid("#444", 1.0));
-        if nth % stride == 0 {
+        if nth.is_multiple_of(stride) {
             svg.text(p, bottom + 6.0 + TICK_PX, &t.label, TextStyle::new(TICK_PX, Anchor::Middle));
         }
         nth += 1;

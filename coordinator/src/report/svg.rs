@@ -109,6 +109,7 @@ impl Svg {
     }
 
     /// A rectangle filled with `fill` (opacity 0..1), optionally outlined.
+    #[allow(clippy::too_many_arguments)] // geometry plus style, mirroring the SVG element
     pub fn rect(
         &mut self,
         x: f64,

@@ -27,8 +27,8 @@ impl DofMap {
         let mut fixed = vec![[false; 6]; model.nodes.len()];
         for f in &model.fixities {
             if let Some(&k) = index.get(&f.node) {
-                for d in 0..6 {
-                    fixed[k][d] |= f.fixed[d];
+                for (slot, &is_fixed) in fixed[k].iter_mut().zip(&f.fixed) {
+                    *slot |= is_fixed;
                 }
             }
         }

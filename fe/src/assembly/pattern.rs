@@ -122,9 +122,9 @@ impl SparsePattern {
     /// y = A x for values on this pattern.
     pub fn mul_vec(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
         y.iter_mut().for_each(|v| *v = 0.0);
-        for c in 0..self.n {
+        for (c, &xc) in x[..self.n].iter().enumerate() {
             for k in self.col_ptr[c]..self.col_ptr[c + 1] {
-                y[self.row_idx[k]] += values[k] * x[c];
+                y[self.row_idx[k]] += values[k] * xc;
             }
         }
     }

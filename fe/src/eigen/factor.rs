@@ -11,8 +11,8 @@ use crate::assembly::SparsePattern;
 pub enum SparseFactor {
     /// LLᵀ of a positive definite matrix.
     Cholesky(Llt<usize, f64>),
-    /// LU with partial pivoting.
-    Lu(Lu<usize, f64>),
+    /// LU with partial pivoting; boxed, being far larger than the other variant.
+    Lu(Box<Lu<usize, f64>>),
 }
 
 impl SparseFactor {
@@ -21,7 +21,9 @@ impl SparseFactor {
         let a = pattern.to_faer(values);
         match a.sp_cholesky(Side::Lower) {
             Ok(llt) => Ok(SparseFactor::Cholesky(llt)),
-            Err(_) => a.sp_lu().map(SparseFactor::Lu).map_err(|e| format!("{e:?}")),
+            Err(_) => {
+                a.sp_lu().map(|lu| SparseFactor::Lu(Box::new(lu))).map_err(|e| format!("{e:?}"))
+            }
         }
     }
 

@@ -139,7 +139,7 @@ fn shifted_factor(
         }
     }
     match SupernodalCholesky::new(pattern, &a, &node_block_amd(pattern)) {
-        Ok(l) => Ok(ShiftedFactor::Cholesky(l)),
+        Ok(l) => Ok(ShiftedFactor::Cholesky(Box::new(l))),
         Err(_) => SparseFactor::new(pattern, &a)
             .map(ShiftedFactor::General)
             .map_err(|message| EigenError::Singular { shift, message }),
@@ -292,7 +292,7 @@ impl Basis {
     fn orthonormalize(&self, w: Mat<f64>, before: &[f64]) -> Mat<f64> {
         let room = self.q.rows - self.len;
         let mut kept: Vec<Vec<f64>> = Vec::with_capacity(w.ncols());
-        for j in 0..w.ncols() {
+        for (j, &norm_before) in before[..w.ncols()].iter().enumerate() {
             if kept.len() >= room {
                 break;
             }
@@ -304,7 +304,7 @@ impl Basis {
                 }
             }
             let after = dot(&v, &v).sqrt();
-            if after > 1e-10 * before[j] {
+            if after > 1e-10 * norm_before {
                 v.iter_mut().for_each(|a| *a /= after);
                 kept.push(v);
             }

@@ -30,7 +30,7 @@ pub struct Ordering {
 fn equation_groups(pattern: &SparsePattern) -> (Vec<usize>, usize) {
     let mut group = vec![0; pattern.n];
     let (mut count, mut start) = (0, 0);
-    for e in 0..pattern.n {
+    for (e, slot) in group.iter_mut().enumerate() {
         let joins = e > start
             && e - start < MAX_GROUP
             && (start..e).all(|m| pattern.position(m, e).is_some());
@@ -40,7 +40,7 @@ fn equation_groups(pattern: &SparsePattern) -> (Vec<usize>, usize) {
             }
             start = e;
         }
-        group[e] = count;
+        *slot = count;
     }
     (group, if pattern.n == 0 { 0 } else { count + 1 })
 }

@@ -13,8 +13,9 @@ use super::supernodal::SupernodalCholesky;
 
 /// A factorized K − σM.
 pub enum ShiftedFactor {
-    /// Supernodal LLᵀ (σ below the lowest eigenvalue).
-    Cholesky(SupernodalCholesky),
+    /// Supernodal LLᵀ (σ below the lowest eigenvalue); boxed, being far
+    /// larger than the other variant.
+    Cholesky(Box<SupernodalCholesky>),
     /// LU of an indefinite K − σM.
     General(SparseFactor),
 }

@@ -13,6 +13,7 @@ pub type Mat12 = SMatrix<f64, 12, 12>;
 
 /// Rows are the unit local axes x, y, z in global components, plus the
 /// length (mm); `None` if the nodes coincide or vecxz is parallel to x.
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the check
 pub fn local_axes(xi: [f64; 3], xj: [f64; 3], vecxz: [f64; 3]) -> Option<(Matrix3<f64>, f64)> {
     let d = Vector3::from(xj) - Vector3::from(xi);
     let len = d.norm();

@@ -87,7 +87,7 @@ impl Grid {
     }
     /// The member along y-line i (1 <= i < nx).
     pub(super) fn y_line(&self, i: usize) -> Member {
-        if (i - 1) % self.main_every == 0 {
+        if (i - 1).is_multiple_of(self.main_every) {
             Member::Main
         } else {
             Member::Sub

@@ -250,6 +250,7 @@ impl CeilingSpec {
     }
 
     /// Checks sizes are positive and on the module.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the check
     pub fn check(&self) -> Result<(), SpecError> {
         let s = &self.structure;
         let positive = [

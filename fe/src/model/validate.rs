@@ -146,6 +146,7 @@ pub enum ModelError {
 }
 
 /// Checks a model against every rule; returns the first broken one.
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the check
 pub fn validate(model: &Model) -> Result<(), ModelError> {
     check_header(model)?;
     let coords = check_nodes(model)?;
@@ -252,6 +253,7 @@ fn unique_element(seen: &mut HashSet<u64>, id: u64) -> Result<(), ModelError> {
     Ok(())
 }
 
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the check
 fn check_beam(b: &Beam, xi: [f64; 3], xj: [f64; 3]) -> Result<(), ModelError> {
     for (key, value) in [
         ("A", b.area_mm2),

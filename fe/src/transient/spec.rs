@@ -118,6 +118,7 @@ impl TransientSpec {
         }
     }
 
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the check
     fn check(&self) -> Result<(), TransientError> {
         let bad = |what: &str, v: f64| {
             Err(TransientError::Spec { message: format!("{what} = {v} is out of range") })

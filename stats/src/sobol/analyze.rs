@@ -81,7 +81,7 @@ pub enum SobolError {
 /// Indices from outputs `y` laid out as by `saltelli_sample` for d inputs.
 pub fn analyze(d: usize, y: &[f64], set: &AnalyzeSettings) -> Result<Indices, SobolError> {
     let block = d + 2;
-    if y.is_empty() || y.len() % block != 0 {
+    if y.is_empty() || !y.len().is_multiple_of(block) {
         return Err(SobolError::Length { found: y.len(), block });
     }
     if let Some(index) = y.iter().position(|v| !v.is_finite()) {
@@ -99,8 +99,11 @@ pub fn analyze(d: usize, y: &[f64], set: &AnalyzeSettings) -> Result<Indices, So
     Ok(Indices { s1, st, s1_conf, st_conf })
 }
 
+/// First-order and total indices of one estimate (point or bootstrap).
+type Replicate = (Vec<f64>, Vec<f64>);
+
 /// Point estimates over the base rows `rows`; None if the variance is 0.
-fn estimate(d: usize, y: &[f64], rows: &[usize], fo: FirstOrder) -> Option<(Vec<f64>, Vec<f64>)> {
+fn estimate(d: usize, y: &[f64], rows: &[usize], fo: FirstOrder) -> Option<Replicate> {
     let block = d + 2;
     let m = rows.len() as f64;
     let (mut s, mut s2) = (0.0, 0.0);
@@ -154,7 +157,7 @@ fn bootstrap(d: usize, y: &[f64], set: &AnalyzeSettings) -> (Vec<f64>, Vec<f64>)
         }
     }
     let z = normal_quantile(0.5 + set.level / 2.0);
-    let sd = |f: &dyn Fn(&(Vec<f64>, Vec<f64>)) -> f64| {
+    let sd = |f: &dyn Fn(&Replicate) -> f64| {
         let k = reps.len() as f64;
         let m = reps.iter().map(f).sum::<f64>() / k;
         (reps.iter().map(|r| (f(r) - m).powi(2)).sum::<f64>() / (k - 1.0)).sqrt()

@@ -1,12 +1,12 @@
 //! Stage 4: Kennedy–O'Hagan calibration of the kept parameters against the
-//! measured values (seed eqs. 6.3–6.11): y_i = alpha eta_i(theta) + delta(i)
-//! + eps_i, eta the GP emulators (their predictive variance enters the
-//! covariance), delta a squared-exponential GP over the observation index,
-//! eps_i ~ N(0, sd_i²) with the measured sds; dropped parameters sit at
-//! their prior centres. The emulators' predictive variance enters as extra
-//! noise, taken at the prior centre (constant, so that the gradient through
-//! the emulator means is exact). Solved by BBVI (or MCMC) in the
-//! unconstrained space of the uniform prior box.
+//! measured values (seed eqs. 6.3–6.11):
+//! y_i = alpha eta_i(theta) + delta(i) + eps_i, eta the GP emulators (their
+//! predictive variance enters the covariance), delta a squared-exponential
+//! GP over the observation index, eps_i ~ N(0, sd_i²) with the measured sds;
+//! dropped parameters sit at their prior centres. The emulators' predictive
+//! variance enters as extra noise, taken at the prior centre (constant, so
+//! that the gradient through the emulator means is exact). Solved by BBVI
+//! (or MCMC) in the unconstrained space of the uniform prior box.
 
 use super::config::{CalibrationSection, ObservationsSection};
 use anyhow::{anyhow, bail, Result};

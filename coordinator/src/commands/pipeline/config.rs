@@ -216,6 +216,7 @@ impl PipelineConfig {
 }
 
 /// Consistency of the analysis with the study, each failure naming the key.
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the check
 fn check(a: &Analysis, study: &Study, path: &Path) -> Result<()> {
     let file = path.display();
     let s = a.emulator.split;

@@ -183,6 +183,9 @@ fn emulate(
     Ok((gp, report))
 }
 
+/// One output's fitted emulator and report, filled in by a worker thread.
+type EmulatorSlot = std::sync::Mutex<Option<Result<(Gp, EmulatorReport)>>>;
+
 /// Emulators of every output, fitted in parallel threads.
 pub fn fit_all(
     data: &Dataset,
@@ -203,7 +206,7 @@ pub fn fit_all(
     };
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let slots: Vec<std::sync::Mutex<Option<Result<(Gp, EmulatorReport)>>>> =
+    let slots: Vec<EmulatorSlot> =
         (0..data.outputs.len()).map(|_| std::sync::Mutex::new(None)).collect();
     std::thread::scope(|s| {
         for _ in 0..threads.min(data.outputs.len()) {
