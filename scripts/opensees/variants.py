@@ -45,6 +45,11 @@ Variants (units of the model file: N, mm, s, t):
 * pinching-shape: each Pinching4 spring gets rDisp 0.5, rForce 0.5, uForce 0.1
   on both sides (the exported shape is replaced) and its envelope forces times
   a factor uniform in [0.8, 1.2] (initial stiffness scales with it).
+* mass-scatter: each node's translational mass times a factor uniform in
+  [0.85, 1.15] (panels of different weight, sensors and cables, another
+  lumping of the members' mass): a linear misfit no extension models.
+* member-scatter: each beam's E times a factor uniform in [0.85, 1.15]
+  (member-to-member scatter of section and stiffness): another one.
 * damping-shift: Rayleigh re-targeted to 1.5 zeta at the lower anchor (the
   lowest target frequency) and 0.7 zeta at 4 times it.
 
@@ -70,6 +75,8 @@ SOFTENING_K2_RATIO = 0.3
 SOFTENING_DY_MM = 0.1
 SMOOTH_STEEL02 = (3.0, 0.925, 0.15)
 FLAG_BETA = 0.6
+MASS_SCATTER = (0.85, 1.15)
+MEMBER_SCATTER = (0.85, 1.15)
 DAMPING_LOW_FACTOR = 1.5
 DAMPING_HIGH_FACTOR = 0.7
 DAMPING_HIGH_OVER_LOW = 4.0
@@ -254,6 +261,32 @@ def pinching_flag(m, seed):
     return {"applied": True, "n_springs": len(targets), "beta": FLAG_BETA}
 
 
+def mass_scatter(m, seed):
+    """Each node's translational mass times U[0.85, 1.15]."""
+    masses = m.get("masses", [])
+    if not masses:
+        return absent("nodal mass")
+    fs = []
+    for entry in masses:
+        f = factor(seed, "mass-scatter", entry["node"], *MASS_SCATTER)
+        entry["m"] = [v * f if k < 3 else v for k, v in enumerate(entry["m"])]
+        fs.append(f)
+    return {"applied": True, "n_nodes": len(fs), "factor": summary(fs)}
+
+
+def member_scatter(m, seed):
+    """Each beam's E times U[0.85, 1.15]."""
+    beams = m.get("beams", [])
+    if not beams:
+        return absent("beam")
+    fs = []
+    for b in beams:
+        f = factor(seed, "member-scatter", b["id"], *MEMBER_SCATTER)
+        b["E"] *= f
+        fs.append(f)
+    return {"applied": True, "n_beams": len(fs), "factor": summary(fs)}
+
+
 def rayleigh_zeta(alpha, beta, f_hz):
     w = 2 * math.pi * f_hz
     return alpha / (2 * w) + beta * w / 2
@@ -291,12 +324,14 @@ VARIANTS = {
     "friction-smooth": friction_smooth,
     "pinching-shape": pinching_shape,
     "pinching-flag": pinching_flag,
+    "mass-scatter": mass_scatter,
+    "member-scatter": member_scatter,
     "damping-shift": damping_shift,
 }
 # contact law first, then scatter of whatever gap material results
 ORDER = ["contact-impact", "contact-stiffening", "contact-softening", "gap-scatter",
          "friction-scatter", "friction-smooth", "pinching-shape", "pinching-flag",
-         "damping-shift"]
+         "mass-scatter", "member-scatter", "damping-shift"]
 
 
 def parse(text):
