@@ -119,6 +119,7 @@ impl Ceiling {
             damping_ratio: opts.damping_ratio,
             n_modes: opts.n_modes,
             substeps: opts.substeps,
+            max_step_s: None,
             spring_groups: vec![],
             rayleigh_groups: vec![],
         };

@@ -58,6 +58,10 @@ pub struct CampaignOptions {
     /// Spring groups whose peaks are reported.
     #[serde(default)]
     pub spring_groups: Vec<String>,
+    /// Longest integration step (s); a run sampled more coarsely is
+    /// integrated in substeps (none: at its sample step).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_step_s: Option<f64>,
     /// The runs simulated by every task, in order.
     pub runs: Vec<CampaignRun>,
 }
@@ -148,6 +152,7 @@ impl CeilingCampaign {
             damping_ratio: o.damping_ratio,
             spring_groups: o.spring_groups,
             rayleigh_groups: o.rayleigh_groups,
+            max_step_s: o.max_step_s,
             ..SimOptions::default()
         };
         Ok(Self { spec, base, runs, opts })

@@ -12,7 +12,7 @@
 use super::cause::Demand;
 use super::fit::{measured_sensors, Evaluation, Simulated, CONNECTION_GROUP, PERIMETER_GROUP};
 use crate::bundle::{self, Bundle};
-use crate::specimen::to_bundle_units;
+use crate::specimen::{to_bundle_units, MAX_STEP_S};
 use crate::study::hash_keys;
 use fe::ceiling::SimOptions;
 use protocol::Outcome;
@@ -56,6 +56,7 @@ pub fn campaign_study(ev: &Evaluation<'_>, purpose: Purpose) -> Result<CampaignS
         damping_ratio: SimOptions::default().damping_ratio,
         rayleigh_groups: vec![PERIMETER_GROUP.into()],
         spring_groups: groups,
+        max_step_s: Some(MAX_STEP_S),
         runs,
     };
     let options_json = serde_json::to_string(&options).map_err(|e| e.to_string())?;

@@ -7,7 +7,7 @@
 
 use super::cause::{model_parameters, Cause, Demand, Prior};
 use crate::bundle::{Bundle, RunData};
-use crate::specimen::{base_input, fe_spec, simulate_run};
+use crate::specimen::{base_input, fe_spec, simulate_run, MAX_STEP_S};
 use fe::ceiling::SimOptions;
 use fe::generator::Parameters;
 
@@ -100,8 +100,11 @@ impl Evaluation<'_> {
     ) -> Result<(fe::generator::CeilingSpec, Parameters, SimOptions), String> {
         let spec = self.fe_spec()?;
         let mut params = Parameters::prior_midpoints_for(&spec);
-        let mut opts =
-            SimOptions { rayleigh_groups: vec![PERIMETER_GROUP.into()], ..SimOptions::default() };
+        let mut opts = SimOptions {
+            rayleigh_groups: vec![PERIMETER_GROUP.into()],
+            max_step_s: Some(MAX_STEP_S),
+            ..SimOptions::default()
+        };
         for (name, value) in self.assignments(theta) {
             if name == DAMPING_RATIO {
                 opts.damping_ratio = value;

@@ -20,7 +20,7 @@ pub mod spec;
 
 use crate::bundle::{self, Bundle, Manifest, ModalEntry, RunData, RunMeta, FORMAT};
 use crate::diagnose::cause::Cause;
-use crate::specimen::{bundle_series, fe_sensor, fe_spec, simulate_run, SpecimenError};
+use crate::specimen::{bundle_series, fe_sensor, fe_spec, simulate_run, SpecimenError, MAX_STEP_S};
 use fe::ceiling::{BaseInput, SimOptions};
 use fe::generator::{CeilingSpec, Parameters};
 use rand::SeedableRng;
@@ -218,6 +218,7 @@ fn baseline_demand(
         damping_ratio: spec.truth.damping_ratio,
         spring_groups: vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()],
         rayleigh_groups: vec![PERIMETER_GROUP.into()],
+        max_step_s: Some(MAX_STEP_S),
         ..SimOptions::default()
     };
     let mut d = [0.0f64; 3];
@@ -276,6 +277,7 @@ fn simulate_runs(
         damping_ratio: spec.truth.damping_ratio,
         n_modes,
         rayleigh_groups: vec![PERIMETER_GROUP.into()],
+        max_step_s: Some(MAX_STEP_S),
         ..SimOptions::default()
     };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);

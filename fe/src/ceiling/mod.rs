@@ -15,7 +15,7 @@ pub mod simulate;
 
 pub use damping::{rayleigh_on_first_modes, RayleighFit};
 pub use input::{sine_sweep, BaseInput, SineSweep};
-pub use prepare::{prepare, PreparedRun};
+pub use prepare::{prepare, steps_per_sample, PreparedRun};
 pub use sensor::{Direction, Sensor, SensorKind};
 pub use simulate::{
     read_history, run_prepared, simulate, CeilingError, SensorHistory, SimOptions, Simulation,

@@ -103,6 +103,7 @@ pub fn prepare(
     let n_sensor_recorders = recorders.len();
     let counts = spring_recorders(&model, &opts.spring_groups, &mut recorders);
     let n = opts.n_modes.min(modal.freq_hz.len());
+    let steps = steps_per_sample(input.dt_s, opts.substeps, opts.max_step_s);
     Ok(PreparedRun {
         freq_hz: modal.freq_hz[..n].to_vec(),
         mode_dir: (0..n).map(|k| modal.dominant(k)).collect(),
@@ -114,9 +115,9 @@ pub fn prepare(
         n_sensor_recorders,
         groups: opts.spring_groups.iter().cloned().zip(counts).collect(),
         base: base_motion(input),
-        dt_s: input.dt_s / opts.substeps as f64,
-        n_steps: (input.len() - 1) * opts.substeps,
-        output_every_n_steps: opts.substeps,
+        dt_s: input.dt_s / steps as f64,
+        n_steps: (input.len() - 1) * steps,
+        output_every_n_steps: steps,
         input_dt_s: input.dt_s,
     })
 }
@@ -139,6 +140,9 @@ fn check(input: &BaseInput, opts: &SimOptions) -> Result<(), CeilingError> {
     }
     if opts.substeps == 0 {
         return bad("substeps = 0: expected >= 1".into());
+    }
+    if let Some(h) = opts.max_step_s.filter(|h| !(*h > 0.0 && h.is_finite())) {
+        return bad(format!("max_step_s = {h}: expected a finite step > 0"));
     }
     Ok(())
 }
@@ -217,4 +221,37 @@ fn spring_recorders(model: &Model, groups: &[String], out: &mut Vec<RecorderSpec
             ids.len()
         })
         .collect()
+}
+
+/// Integration steps per input sample: `substeps`, or more where that
+/// leaves a step longer than `max_step_s` (the fewest that do not).
+pub fn steps_per_sample(dt_s: f64, substeps: usize, max_step_s: Option<f64>) -> usize {
+    let needed = max_step_s.map_or(1, |h| (dt_s / h * (1.0 - 1e-9)).ceil().max(1.0) as usize);
+    substeps.max(needed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::steps_per_sample;
+    use proptest::prelude::*;
+
+    #[test]
+    fn a_step_limit_splits_long_samples_only() {
+        assert_eq!(steps_per_sample(0.01, 1, None), 1);
+        assert_eq!(steps_per_sample(0.01, 3, None), 3);
+        assert_eq!(steps_per_sample(0.01, 1, Some(0.005)), 2);
+        assert_eq!(steps_per_sample(1.0 / 200.0, 1, Some(0.005)), 1);
+        assert_eq!(steps_per_sample(0.0051, 1, Some(0.005)), 2);
+        assert_eq!(steps_per_sample(0.01, 4, Some(0.005)), 4);
+    }
+
+    proptest! {
+        /// The fewest steps that keep each within the limit (to rounding).
+        #[test]
+        fn steps_are_the_fewest_within_the_limit(dt in 1e-4..0.1f64, h in 1e-4..0.1f64) {
+            let n = steps_per_sample(dt, 1, Some(h));
+            prop_assert!(dt / n as f64 <= h * (1.0 + 1e-9));
+            prop_assert!(n == 1 || dt / (n - 1) as f64 > h * (1.0 - 1e-9));
+        }
+    }
 }

@@ -20,6 +20,9 @@ pub struct SimOptions {
     pub n_modes: usize,
     /// Integration steps per input sample (≥ 1).
     pub substeps: usize,
+    /// Longest integration step (s): more steps per input sample where the
+    /// sample step is longer ([`steps_per_sample`]); None: `substeps` alone.
+    pub max_step_s: Option<f64>,
     /// Spring groups whose peak deformation and force are reported
     /// (e.g. `perimeter_friction`).
     pub spring_groups: Vec<String>,
@@ -35,6 +38,7 @@ impl Default for SimOptions {
             damping_ratio: 0.05,
             n_modes: 6,
             substeps: 1,
+            max_step_s: None,
             spring_groups: vec![],
             rayleigh_groups: vec![],
         }

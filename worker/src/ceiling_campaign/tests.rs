@@ -31,6 +31,7 @@ fn options() -> CampaignOptions {
         damping_ratio: 0.05,
         rayleigh_groups: vec!["perimeter_friction".into()],
         spring_groups: vec!["perimeter_friction".into(), "connection_axial".into()],
+        max_step_s: None,
         runs: vec![
             CampaignRun {
                 id: "r1".into(),
