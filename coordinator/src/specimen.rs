@@ -73,6 +73,19 @@ pub fn fe_sensor(s: &bundle::Sensor) -> Sensor {
 /// twice the FE time again).
 pub const MAX_STEP_S: f64 = 0.005;
 
+/// The simulation options of every run of a bundle, in `diagnose` and in
+/// `synth`: Rayleigh damping `damping_ratio` on the first x and y modes,
+/// the perimeter springs damped with the grid, steps of at most
+/// [`MAX_STEP_S`].
+pub fn run_options(damping_ratio: f64) -> fe::ceiling::SimOptions {
+    fe::ceiling::SimOptions {
+        damping_ratio,
+        rayleigh_groups: vec![crate::diagnose::fit::PERIMETER_GROUP.into()],
+        max_step_s: Some(MAX_STEP_S),
+        ..fe::ceiling::SimOptions::default()
+    }
+}
+
 /// The base input of a run (m/s²).
 pub fn base_input(run: &RunData) -> BaseInput {
     BaseInput { dt_s: run.dt_s, x_m_s2: run.input_x_m_s2.clone(), y_m_s2: run.input_y_m_s2.clone() }

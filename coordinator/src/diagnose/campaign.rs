@@ -12,7 +12,7 @@
 use super::cause::Demand;
 use super::fit::{measured_sensors, Evaluation, Simulated, CONNECTION_GROUP, PERIMETER_GROUP};
 use crate::bundle::{self, Bundle};
-use crate::specimen::{to_bundle_units, MAX_STEP_S};
+use crate::specimen::{run_options, to_bundle_units};
 use crate::study::hash_keys;
 use fe::ceiling::SimOptions;
 use protocol::Outcome;
@@ -51,12 +51,13 @@ pub fn campaign_study(ev: &Evaluation<'_>, purpose: Purpose) -> Result<CampaignS
         Purpose::Demand => (vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()], false),
     };
     let runs = ev.runs.iter().map(|&k| campaign_run(ev.bundle, k, with_sensors)).collect();
+    let sim = run_options(SimOptions::default().damping_ratio);
     let options = CampaignOptions {
         spec_toml,
-        damping_ratio: SimOptions::default().damping_ratio,
-        rayleigh_groups: vec![PERIMETER_GROUP.into()],
+        damping_ratio: sim.damping_ratio,
+        rayleigh_groups: sim.rayleigh_groups,
         spring_groups: groups,
-        max_step_s: Some(MAX_STEP_S),
+        max_step_s: sim.max_step_s,
         runs,
     };
     let options_json = serde_json::to_string(&options).map_err(|e| e.to_string())?;

@@ -7,7 +7,7 @@
 
 use super::cause::{model_parameters, Cause, Demand, Prior};
 use crate::bundle::{Bundle, RunData};
-use crate::specimen::{base_input, fe_spec, simulate_run, MAX_STEP_S};
+use crate::specimen::{base_input, fe_spec, run_options, simulate_run};
 use fe::ceiling::SimOptions;
 use fe::generator::Parameters;
 
@@ -100,11 +100,7 @@ impl Evaluation<'_> {
     ) -> Result<(fe::generator::CeilingSpec, Parameters, SimOptions), String> {
         let spec = self.fe_spec()?;
         let mut params = Parameters::prior_midpoints_for(&spec);
-        let mut opts = SimOptions {
-            rayleigh_groups: vec![PERIMETER_GROUP.into()],
-            max_step_s: Some(MAX_STEP_S),
-            ..SimOptions::default()
-        };
+        let mut opts = run_options(SimOptions::default().damping_ratio);
         for (name, value) in self.assignments(theta) {
             if name == DAMPING_RATIO {
                 opts.damping_ratio = value;

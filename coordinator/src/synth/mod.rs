@@ -20,7 +20,9 @@ pub mod spec;
 
 use crate::bundle::{self, Bundle, Manifest, ModalEntry, RunData, RunMeta, FORMAT};
 use crate::diagnose::cause::Cause;
-use crate::specimen::{bundle_series, fe_sensor, fe_spec, simulate_run, SpecimenError, MAX_STEP_S};
+use crate::specimen::{
+    bundle_series, fe_sensor, fe_spec, run_options, simulate_run, SpecimenError,
+};
 use fe::ceiling::{BaseInput, SimOptions};
 use fe::generator::{CeilingSpec, Parameters};
 use rand::SeedableRng;
@@ -215,11 +217,8 @@ fn baseline_demand(
     inputs: &[BaseInput],
 ) -> Result<[f64; 3], SynthError> {
     let opts = SimOptions {
-        damping_ratio: spec.truth.damping_ratio,
         spring_groups: vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()],
-        rayleigh_groups: vec![PERIMETER_GROUP.into()],
-        max_step_s: Some(MAX_STEP_S),
-        ..SimOptions::default()
+        ..run_options(spec.truth.damping_ratio)
     };
     let mut d = [0.0f64; 3];
     for (r, input) in spec.runs.iter().zip(inputs) {
@@ -273,13 +272,7 @@ fn simulate_runs(
     observer: &mut dyn FnMut(&str),
 ) -> Result<(Runs, Vec<f64>), SynthError> {
     let n_modes = spec.modal.as_ref().map_or(6, |m| m.modes.max(1));
-    let opts = SimOptions {
-        damping_ratio: spec.truth.damping_ratio,
-        n_modes,
-        rayleigh_groups: vec![PERIMETER_GROUP.into()],
-        max_step_s: Some(MAX_STEP_S),
-        ..SimOptions::default()
-    };
+    let opts = SimOptions { n_modes, ..run_options(spec.truth.damping_ratio) };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
     let mut runs = Vec::new();
     let mut freq_hz = Vec::new();
