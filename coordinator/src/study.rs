@@ -499,9 +499,7 @@ fn inline_record_file(
 ) {
     let Some(serde_json::Value::Object(ex)) = options.get_mut("excitation") else { return };
     let Some(serde_json::Value::String(file)) = ex.get("file").cloned() else { return };
-    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
-    let found = if beside.is_file() { beside } else { PathBuf::from(&file) };
-    match std::fs::read_to_string(&found) {
+    match read_beside(study_path, &file) {
         Ok(text) => {
             ex.remove("file");
             ex.insert("csv".into(), serde_json::Value::String(text));
@@ -510,6 +508,13 @@ fn inline_record_file(
             "model.excitation.file = {file:?}: cannot read it beside the study file or in the working directory ({e})"
         )),
     }
+}
+
+/// The text of `file`, read beside the study file, else from the working
+/// directory.
+fn read_beside(study_path: &Path, file: &str) -> std::io::Result<String> {
+    let beside = study_path.parent().unwrap_or(Path::new(".")).join(file);
+    std::fs::read_to_string(if beside.is_file() { beside } else { PathBuf::from(file) })
 }
 
 /// Replaces a `[model] spec = "FILE"` (a specimen TOML, relative to the study
@@ -522,9 +527,7 @@ fn inline_spec_file(
     problems: &mut Vec<String>,
 ) {
     let Some(serde_json::Value::String(file)) = options.get("spec").cloned() else { return };
-    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
-    let found = if beside.is_file() { beside } else { PathBuf::from(&file) };
-    match std::fs::read_to_string(&found) {
+    match read_beside(study_path, &file) {
         Ok(text) => {
             options.remove("spec");
             options.insert("spec_toml".into(), serde_json::Value::String(text));
