@@ -1,10 +1,15 @@
 //! Posterior of a calibrated variant by black-box variational inference
 //! (full-rank Gaussian, reparameterisation gradients; stats::bbvi) on an
 //! emulator of −log L built from the FE evaluations the calibration made:
-//! the Gauss–Newton quadratic at the estimate plus a GP through the
-//! evaluated misfits near it (within [`LOCAL_NATS`] of the best), which
-//! bends the quadratic along the valleys a hysteretic model's likelihood
-//! has. The prior is uniform on the prior box (unit cube); q lives on the
+//! the Gauss–Newton quadratic at the estimate plus a GP through what it
+//! misses at every evaluated point, which bends the quadratic along the
+//! valleys a hysteretic model's likelihood has. Both are capped at
+//! [`CAP_NATS`] above the best: the posterior lives within a few tens of
+//! nats of it, and the cap keeps in view the evaluations far worse than
+//! the quadratic says (a connection driven past its backbone's peak, a
+//! support that slips away), which a GP trained on the near points alone
+//! would extrapolate over into a posterior where the FE misfit is
+//! thousands of nats above the best. The prior is uniform on the prior box (unit cube); q lives on the
 //! logit of the unit cube, centred at the estimate and scaled by the
 //! Laplace spread, so that the box is respected and q starts near its
 //! answer. No FE run is made here.
@@ -18,9 +23,10 @@ use stats::bbvi::{Bbvi, BbviSettings, FamilyKind};
 use stats::calibration::LogDensity;
 use stats::gp::Gp;
 
-/// FE-evaluated points within this many nats of the best train the GP
-/// correction to the quadratic.
-pub const LOCAL_NATS: f64 = 50.0;
+/// Excess −log L (nats above the best) at which the emulator's quadratic
+/// and its training targets are capped: far above where the posterior has
+/// mass (e^−100), low enough that a GP can follow a cliff to it.
+pub const CAP_NATS: f64 = 100.0;
 /// Draws from q kept for the summaries and plots.
 const DRAWS: usize = 2000;
 /// Smallest distance of the estimate from a bound of the unit cube (logit).
@@ -64,8 +70,14 @@ struct Emulated {
 }
 
 impl Emulated {
-    /// ½ dᵀHd + GP correction at `u`.
+    /// min(½ dᵀHd, [`CAP_NATS`]) + GP correction at `u`.
     fn excess(&self, u: &[f64]) -> f64 {
+        let g = self.correction.as_ref().and_then(|gp| gp.predict(u, false).ok());
+        self.quadratic(u).min(CAP_NATS) + g.map_or(0.0, |p| p.mean[0])
+    }
+
+    /// ½ dᵀHd at `u`.
+    fn quadratic(&self, u: &[f64]) -> f64 {
         let d: Vec<f64> = u.iter().zip(&self.u0).map(|(a, b)| a - b).collect();
         let k = d.len();
         let mut q = 0.0;
@@ -74,8 +86,7 @@ impl Emulated {
                 q += d[i] * self.h[(i, j)] * d[j];
             }
         }
-        let g = self.correction.as_ref().and_then(|gp| gp.predict(u, false).ok());
-        0.5 * q + g.map_or(0.0, |p| p.mean[0])
+        0.5 * q
     }
 }
 
@@ -162,8 +173,10 @@ pub fn variational_posterior(
     Ok(summarise(cal, draws, used, &fit))
 }
 
-/// GP through the misfit the quadratic leaves at the evaluated points
-/// within [`LOCAL_NATS`] of the best (None when too few).
+/// GP through what the capped quadratic misses of the capped misfit,
+/// min(f − f₀, [`CAP_NATS`]) − min(½ dᵀHd, [`CAP_NATS`]), at every
+/// distinct evaluated point where either is below the cap (elsewhere it
+/// misses nothing) (None when too few).
 fn gp_correction(
     cal: &Calibration,
     f: &[f64],
@@ -175,10 +188,11 @@ fn gp_correction(
     let quad = Emulated { u0: u0.to_vec(), h: h.clone(), correction: None };
     let (mut x, mut y) = (Vec::new(), Vec::new());
     for (p, v) in cal.points.iter().zip(f) {
-        if v.is_finite() && v - f0 < LOCAL_NATS && !x.chunks(k).any(|q: &[f64]| q == p.u.as_slice())
-        {
+        let q = quad.quadratic(&p.u);
+        let informative = v - f0 < CAP_NATS || q < CAP_NATS;
+        if v.is_finite() && informative && !x.chunks(k).any(|o: &[f64]| o == p.u.as_slice()) {
             x.extend_from_slice(&p.u);
-            y.push(v - f0 - quad.excess(&p.u));
+            y.push((v - f0).min(CAP_NATS) - q.min(CAP_NATS));
         }
     }
     if y.len() < k + 3 {
@@ -323,5 +337,30 @@ mod tests {
         assert!((0.4..1.5).contains(&r), "mean {:?}: {r} of the half-Gaussian's", post.mean);
         assert!(post.q975[0] < 1.5 * 2.24 * 0.01, "97.5 %: {}", post.q975[0]);
         assert!((post.mean[1] - 0.5).abs() < 0.002, "free coordinate: {}", post.mean[1]);
+    }
+    /// A likelihood with a cliff 0.02 below the optimum in u₀ (a
+    /// connection driven past its backbone's peak: 500 nats more) and flat
+    /// on that side up to it, under a Gauss–Newton matrix ten times too weak
+    /// in u₀ (sd 0.03): the evaluations beyond the cliff keep the posterior
+    /// on the near side of it.
+    #[test]
+    fn evaluations_past_a_cliff_keep_the_posterior_off_it() {
+        let c = [0.5, 0.5];
+        let edge = c[0] - 0.02;
+        let nll = |u: &[f64]| {
+            let right = (u[0] - c[0]).max(0.0);
+            let cliff = if u[0] < edge { 500.0 } else { 0.0 };
+            0.5 * 1e4 * (right * right + (u[1] - c[1]).powi(2)) + cliff
+        };
+        let a = DMatrix::from_row_slice(2, 2, &[1e3, 0.0, 0.0, 1e4]);
+        let cal = calibration(&nll, &around(&c, 0.06), a);
+        let post = variational_posterior(&cal, &[2.0], 3).unwrap();
+        let beyond = post.draws[0].iter().filter(|v| **v < edge - 0.005).count();
+        assert!(
+            beyond < post.draws[0].len() / 50,
+            "{beyond} draws past the cliff: {:?}",
+            post.mean
+        );
+        assert!(post.q025[0] > edge - 0.005, "2.5 %: {} (cliff at {edge})", post.q025[0]);
     }
 }
