@@ -380,8 +380,11 @@ fn validate(raw: RawStudy, path: &Path) -> Result<Study, StudyError> {
         Ok(serde_json::Value::Object(m)) => m,
         _ => serde_json::Map::new(),
     };
-    inline_spec_file(&mut model_options, path, &mut problems);
-    inline_record_file(&mut model_options, path, &mut problems);
+    inline_file(&mut model_options, ("spec", "spec_toml", "model.spec"), path, &mut problems);
+    if let Some(serde_json::Value::Object(ex)) = model_options.get_mut("excitation") {
+        let keys = ("file", "csv", "model.excitation.file");
+        inline_file(ex, keys, path, &mut problems);
+    }
     let parameters = check_parameters(raw.parameters, &mut problems);
     let design = check_design(raw.design, &mut problems);
     let farm = check_farm(raw.farm, &mut problems);
@@ -489,51 +492,27 @@ fn check_model(study: &Study) -> Result<(), String> {
     Ok(())
 }
 
-/// Replaces a `[model.excitation] file = "FILE"` (a record CSV, relative to
-/// the study file or else to the working directory) by its text as `csv`,
-/// for the same reasons as [`inline_spec_file`].
-fn inline_record_file(
-    options: &mut serde_json::Map<String, serde_json::Value>,
-    study_path: &Path,
-    problems: &mut Vec<String>,
-) {
-    let Some(serde_json::Value::Object(ex)) = options.get_mut("excitation") else { return };
-    let Some(serde_json::Value::String(file)) = ex.get("file").cloned() else { return };
-    match read_beside(study_path, &file) {
-        Ok(text) => {
-            ex.remove("file");
-            ex.insert("csv".into(), serde_json::Value::String(text));
-        }
-        Err(e) => problems.push(format!(
-            "model.excitation.file = {file:?}: cannot read it beside the study file or in the working directory ({e})"
-        )),
-    }
-}
-
-/// The text of `file`, read beside the study file, else from the working
-/// directory.
-fn read_beside(study_path: &Path, file: &str) -> std::io::Result<String> {
-    let beside = study_path.parent().unwrap_or(Path::new(".")).join(file);
-    std::fs::read_to_string(if beside.is_file() { beside } else { PathBuf::from(file) })
-}
-
-/// Replaces a `[model] spec = "FILE"` (a specimen TOML, relative to the study
-/// file or else to the working directory) by its text as `spec_toml`, so that
+/// Replaces `map[key] = "FILE"` (relative to the study file or else to
+/// the working directory) by the file's text as `map[into]`, so that
 /// workers on other machines need no copy and the study hash covers the
-/// specimen itself.
-fn inline_spec_file(
-    options: &mut serde_json::Map<String, serde_json::Value>,
+/// file itself; `label` names the key in a problem. Used for `[model] spec`
+/// (a specimen TOML, as `spec_toml`) and `[model.excitation] file` (a
+/// record CSV, as `csv`).
+fn inline_file(
+    map: &mut serde_json::Map<String, serde_json::Value>,
+    (key, into, label): (&str, &str, &str),
     study_path: &Path,
     problems: &mut Vec<String>,
 ) {
-    let Some(serde_json::Value::String(file)) = options.get("spec").cloned() else { return };
-    match read_beside(study_path, &file) {
+    let Some(serde_json::Value::String(file)) = map.get(key).cloned() else { return };
+    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
+    match std::fs::read_to_string(if beside.is_file() { beside } else { PathBuf::from(&file) }) {
         Ok(text) => {
-            options.remove("spec");
-            options.insert("spec_toml".into(), serde_json::Value::String(text));
+            map.remove(key);
+            map.insert(into.into(), serde_json::Value::String(text));
         }
         Err(e) => problems.push(format!(
-            "model.spec = {file:?}: cannot read it beside the study file or in the working directory ({e})"
+            "{label} = {file:?}: cannot read it beside the study file or in the working directory ({e})"
         )),
     }
 }

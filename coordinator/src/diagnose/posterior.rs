@@ -9,10 +9,10 @@
 //! the quadratic says (a connection driven past its backbone's peak, a
 //! support that slips away), which a GP trained on the near points alone
 //! would extrapolate over into a posterior where the FE misfit is
-//! thousands of nats above the best. The prior is uniform on the prior box (unit cube); q lives on the
-//! logit of the unit cube, centred at the estimate and scaled by the
-//! Laplace spread, so that the box is respected and q starts near its
-//! answer. No FE run is made here.
+//! thousands of nats above the best. The prior is uniform on the prior
+//! box (unit cube); q lives on the logit of the unit cube, centred at the
+//! estimate and scaled by the Laplace spread, so that the box is respected
+//! and q starts near its answer. No FE run is made here.
 
 use super::calibrate::{unit_cube_gp, Calibration};
 use super::mdl::gn_sd;
