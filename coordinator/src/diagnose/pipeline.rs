@@ -142,12 +142,41 @@ pub struct Diagnosis {
     pub fe_points: usize,
 }
 
-/// Splits runs by role; without roles, the last run validates.
+/// Splits runs by role; without roles, the strongest run validates.
 pub fn split_runs(b: &Bundle) -> (Vec<usize>, Vec<usize>) {
     let roles: Vec<Option<RunRole>> = b.manifest.runs.iter().map(|r| r.role).collect();
+    let peaks: Vec<f64> = b.runs.iter().map(peak_input_m_s2).collect();
+    split_by(&roles, &peaks)
+}
+
+/// Largest |floor acceleration| of a run over its input columns (m/s²;
+/// missing readings skipped).
+fn peak_input_m_s2(run: &crate::bundle::RunData) -> f64 {
+    let columns = [&run.input_x_m_s2, &run.input_y_m_s2];
+    columns
+        .iter()
+        .filter_map(|c| c.as_deref())
+        .flatten()
+        .filter(|v| v.is_finite())
+        .fold(0.0, |m, v| m.max(v.abs()))
+}
+
+/// The split of runs with these roles and peak inputs: by role when any
+/// run has one (calibration alone, or validation alone, serves both);
+/// without roles the run with the largest peak input (the later on a tie)
+/// validates, so that a white-noise check run after the last shake does
+/// not become the test of the extension's physics.
+fn split_by(roles: &[Option<RunRole>], peaks_m_s2: &[f64]) -> (Vec<usize>, Vec<usize>) {
     let n = roles.len();
     if roles.iter().all(Option::is_none) {
-        return if n >= 2 { ((0..n - 1).collect(), vec![n - 1]) } else { (vec![0], vec![0]) };
+        if n < 2 {
+            return (vec![0], vec![0]);
+        }
+        // max_by keeps the last of equal maxima: the later run.
+        let strongest = (0..n)
+            .max_by(|a, b| peak_or_zero(peaks_m_s2, *a).total_cmp(&peak_or_zero(peaks_m_s2, *b)))
+            .unwrap_or(n - 1);
+        return ((0..n).filter(|k| *k != strongest).collect(), vec![strongest]);
     }
     let val: Vec<usize> = (0..n).filter(|k| roles[*k] == Some(RunRole::Validation)).collect();
     let cal: Vec<usize> = (0..n).filter(|k| roles[*k] != Some(RunRole::Validation)).collect();
@@ -156,6 +185,10 @@ pub fn split_runs(b: &Bundle) -> (Vec<usize>, Vec<usize>) {
         (false, true) => (cal.clone(), cal),
         _ => (cal, val),
     }
+}
+
+fn peak_or_zero(peaks: &[f64], k: usize) -> f64 {
+    peaks.get(k).copied().unwrap_or(0.0)
 }
 
 /// Why a diagnosis stopped.
@@ -534,6 +567,25 @@ mod tests {
             n_eff: 1e4,
         };
         CandidateResult { linear_part_mdl: linear, ..CandidateResult::unassessed(cause, Some(mdl)) }
+    }
+
+    #[test]
+    fn without_roles_the_strongest_run_validates() {
+        let none = [None; 5];
+        // White noise, sweep, white noise, strong sweep, white noise.
+        let (cal, val) = split_by(&none, &[0.9, 2.9, 0.9, 3.9, 0.9]);
+        assert_eq!((cal, val), (vec![0, 1, 2, 4], vec![3]));
+        // A tie: the later run.
+        assert_eq!(split_by(&none[..3], &[1.0, 3.0, 3.0]).1, vec![2]);
+        assert_eq!(split_by(&none[..1], &[1.0]), (vec![0], vec![0]));
+    }
+
+    #[test]
+    fn roles_decide_when_any_run_has_one() {
+        let (c, v) = (Some(RunRole::Calibration), Some(RunRole::Validation));
+        assert_eq!(split_by(&[c, v, None], &[5.0, 1.0, 9.0]), (vec![0, 2], vec![1]));
+        assert_eq!(split_by(&[c, None], &[1.0, 2.0]), (vec![0, 1], vec![0, 1]));
+        assert_eq!(split_by(&[v, v], &[1.0, 2.0]), (vec![0, 1], vec![0, 1]));
     }
 
     #[test]
