@@ -103,6 +103,13 @@ pub fn diagnose_dir(
 ) -> Result<PathBuf> {
     let bundle = coordinator::bundle::read_bundle(dir)?;
     eprintln!("{}", bundle.summary());
+    let (bundle, resampled) = coordinator::diagnose::resample::for_simulation(&bundle);
+    for r in &resampled {
+        eprintln!(
+            "run {}: recorded at {:.0} Hz, low-passed and simulated at {:.0} Hz",
+            r.run, r.from_hz, r.to_hz
+        );
+    }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let mut exec = FarmExecutor::new(plan.clone())?;
     let bar = progress_bar(quiet);
@@ -119,7 +126,7 @@ pub fn diagnose_dir(
     std::fs::write(&json, serde_json::to_string_pretty(&v)?)
         .with_context(|| format!("writing {}", json.display()))?;
     let report = out.join("report.html");
-    let html = coordinator::diagnose::report::render(&bundle, &d, &symptoms);
+    let html = coordinator::diagnose::report::render(&bundle, &d, &symptoms, &resampled);
     std::fs::write(&report, html).with_context(|| format!("writing {}", report.display()))?;
     eprintln!(
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",

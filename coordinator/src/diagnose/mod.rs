@@ -27,6 +27,7 @@ pub mod refine;
 pub mod report;
 pub mod report_posterior;
 pub mod report_symptoms;
+pub mod resample;
 pub mod ridge;
 pub mod spectrogram;
 pub mod spectrum;

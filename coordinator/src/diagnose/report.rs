@@ -12,6 +12,7 @@ use super::pipeline::{Diagnosis, LINEAR_PART_NATS, MISFIT_NATS, TIE_NATS};
 use super::reach::validation_reach;
 use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
+use super::resample::Decimated;
 use super::symptoms::{half_cycle_peaks, rms};
 use crate::bundle::{Bundle, SensorKind};
 use crate::report::{
@@ -29,7 +30,7 @@ fn num(v: f64) -> String {
 
 /// The report page as HTML, with the symptoms `e` of the diagnosis
 /// ([`super::evidence::evidence`]).
-pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence) -> String {
+pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence, resampled: &[Decimated]) -> String {
     let telling = telling_channels(b, d);
     let page = Page {
         title: format!("Diagnosis of {}", b.manifest.name),
@@ -41,7 +42,7 @@ pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence) -> String {
         ),
         sections: vec![
             verdict_section(b, d),
-            specimen_section(b, &telling),
+            specimen_section(b, &telling, resampled),
             symptoms_section(e),
             comparison_section(d),
             parameters_section(d),
@@ -145,7 +146,7 @@ fn reach_note(b: &Bundle, d: &Diagnosis) -> Option<Block> {
     })
 }
 
-fn specimen_section(b: &Bundle, telling: &[(usize, String)]) -> Section {
+fn specimen_section(b: &Bundle, telling: &[(usize, String)], resampled: &[Decimated]) -> Section {
     let s = &b.manifest.structure;
     let sensors: Vec<PlanSensor> = b
         .manifest
@@ -189,14 +190,21 @@ fn specimen_section(b: &Bundle, telling: &[(usize, String)]) -> Section {
                         None => s.boundary.as_str().to_string(),
                     },
                 ),
-                (
-                    "runs".into(),
-                    b.manifest.runs.iter().map(|r| r.id.clone()).collect::<Vec<_>>().join(", "),
-                ),
+                ("runs".into(), run_rates(b, resampled)),
             ]),
             Block::figure("Plan with the sensors; highlighted: the sensors shown below.", plan),
         ],
     }
+}
+
+/// Each run's id and sampling rate; a run recorded faster than the
+/// simulation's rate shows both ("1000 Hz, simulated at 200 Hz").
+fn run_rates(b: &Bundle, resampled: &[Decimated]) -> String {
+    let rate = |r: &crate::bundle::RunData| match resampled.iter().find(|x| x.run == r.id) {
+        Some(x) => format!("{} ({:.0} Hz, simulated at {:.0} Hz)", r.id, x.from_hz, x.to_hz),
+        None => format!("{} ({:.0} Hz)", r.id, 1.0 / r.dt_s),
+    };
+    b.runs.iter().map(rate).collect::<Vec<_>>().join(", ")
 }
 
 fn comparison_section(d: &Diagnosis) -> Section {

@@ -230,7 +230,7 @@ mod tests {
         let spikes = t.rows.iter().find(|r| r[0].starts_with("high-frequency share")).unwrap();
         let num = |s: &str| s.parse::<f64>().unwrap();
         assert!(num(&spikes[2]) > 5.0 * num(&spikes[3]), "{spikes:?}");
-        let html = render(&b, &d, &evidence(&b, &d));
+        let html = render(&b, &d, &evidence(&b, &d), &[]);
         assert!(html.contains("id=\"symptoms\"") && html.contains("Symptoms"));
         assert!(!html.contains("not drawn") && !html.contains("is not shown"), "a plot failed");
         // The whole page for `scripts/check-report` (figure count printed).
