@@ -9,23 +9,33 @@ use fe::generator::{CeilingSpec, ModelOptions, Structure};
 /// Why a bundle's specimen cannot be modelled.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SpecimenError {
-    /// A perimeter the FE generator does not build.
-    #[error("structure.boundary = {0:?}: ceilfarm models the semi-free perimeter only")]
-    Boundary(&'static str),
-    /// The semi-free perimeter needs its gap.
-    #[error("structure.nominal_gap_mm: required for a semi-free perimeter")]
-    MissingGap,
+    /// A perimeter with sliding ends needs its gap.
+    #[error("structure.nominal_gap_mm: required for a {0} perimeter")]
+    MissingGap(&'static str),
     /// The FE generator refused the structure.
     #[error("structure: {0}")]
     Spec(String),
 }
 
-/// The FE specimen of a bundle's structure with the given model options.
-pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec, SpecimenError> {
-    if s.boundary != Boundary::SemiFree {
-        return Err(SpecimenError::Boundary(s.boundary.as_str()));
+/// The FE generator's perimeter condition of a bundle's.
+pub fn fe_boundary(b: Boundary) -> fe::generator::Boundary {
+    match b {
+        Boundary::Free => fe::generator::Boundary::Free,
+        Boundary::Fixed => fe::generator::Boundary::Fixed,
+        Boundary::FixedSemiFree => fe::generator::Boundary::FixedSemiFree,
+        Boundary::SemiFree => fe::generator::Boundary::SemiFree,
     }
-    let gap = s.nominal_gap_mm.ok_or(SpecimenError::MissingGap)?;
+}
+
+/// The FE specimen of a bundle's structure with the given model options
+/// (a fixed perimeter has no gap: 0 mm).
+pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec, SpecimenError> {
+    let boundary = fe_boundary(s.boundary);
+    let gap = match (s.nominal_gap_mm, boundary.has_sliding_ends()) {
+        (Some(g), _) => g,
+        (None, false) => 0.0,
+        (None, true) => return Err(SpecimenError::MissingGap(s.boundary.as_str())),
+    };
     let spec = CeilingSpec {
         structure: Structure {
             length_x_m: s.length_x_m,
@@ -36,7 +46,7 @@ pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec
             hanger_length_m: s.hanger_length_m,
             panel_mass_kg: s.panel_mass_kg,
             layers: s.layers,
-            boundary: fe::generator::Boundary::SemiFree,
+            boundary,
             nominal_gap_mm: gap,
         },
         model,
@@ -80,7 +90,10 @@ pub const MAX_STEP_S: f64 = 0.005;
 pub fn run_options(damping_ratio: f64) -> fe::ceiling::SimOptions {
     fe::ceiling::SimOptions {
         damping_ratio,
-        rayleigh_groups: vec![crate::diagnose::fit::PERIMETER_GROUP.into()],
+        rayleigh_groups: vec![
+            crate::diagnose::fit::PERIMETER_GROUP.into(),
+            crate::diagnose::fit::PERIMETER_ACROSS_GROUP.into(),
+        ],
         max_step_s: Some(MAX_STEP_S),
         ..fe::ceiling::SimOptions::default()
     }
@@ -128,4 +141,38 @@ pub fn bundle_series(sensors: &[bundle::Sensor], sim: &fe::ceiling::Simulation) 
             (s.id.clone(), h.values.iter().map(|v| v * k).collect())
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn structure(boundary: Boundary, gap: Option<f64>) -> bundle::Structure {
+        bundle::Structure {
+            length_x_m: 2.4,
+            length_y_m: 2.4,
+            module_m: 0.6,
+            main_tee_spacing_m: 1.2,
+            hanger_spacing_m: 1.2,
+            hanger_length_m: 1.0,
+            panel_mass_kg: 1.2,
+            layers: 1,
+            boundary,
+            nominal_gap_mm: gap,
+        }
+    }
+
+    #[test]
+    fn every_bundle_boundary_is_modelled_and_only_sliding_ends_need_a_gap() {
+        let all = [Boundary::Free, Boundary::Fixed, Boundary::FixedSemiFree, Boundary::SemiFree];
+        for b in all {
+            let spec = fe_spec(&structure(b, Some(12.0)), ModelOptions::default()).unwrap();
+            assert_eq!(spec.structure.boundary.as_str(), b.as_str());
+            assert_eq!(spec.structure.nominal_gap_mm, 12.0);
+        }
+        let fixed = fe_spec(&structure(Boundary::Fixed, None), ModelOptions::default()).unwrap();
+        assert_eq!(fixed.structure.nominal_gap_mm, 0.0);
+        let e = fe_spec(&structure(Boundary::Free, None), ModelOptions::default()).unwrap_err();
+        assert_eq!(e.to_string(), "structure.nominal_gap_mm: required for a free perimeter");
+    }
 }

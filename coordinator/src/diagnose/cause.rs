@@ -284,6 +284,15 @@ impl Cause {
         }
     }
 
+    /// Whether the physics can act on a ceiling with this perimeter: slip
+    /// and pounding need grid ends that can slide (not a fixed perimeter).
+    pub fn has_place(self, boundary: fe::generator::Boundary) -> bool {
+        match self {
+            Cause::PerimeterPounding | Cause::PerimeterFriction => boundary.has_sliding_ends(),
+            Cause::None | Cause::ConnectionHysteresis => true,
+        }
+    }
+
     /// What the physics is, in a sentence for the report.
     pub fn explain(self) -> &'static str {
         match self {

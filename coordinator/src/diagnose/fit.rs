@@ -42,6 +42,9 @@ impl ChannelFit {
 
 /// Spring group of the perimeter along-axis springs (friction / elastic).
 pub const PERIMETER_GROUP: &str = "perimeter_friction";
+/// The across-axis friction springs of free grid ends (damped as the
+/// along-axis ones).
+pub const PERIMETER_ACROSS_GROUP: &str = "perimeter_friction_across";
 /// Spring group of the grid connections' axial springs.
 pub const CONNECTION_GROUP: &str = "connection_axial";
 /// The calibrated parameter that sets the Rayleigh damping ratio.

@@ -243,7 +243,9 @@ pub fn diagnose_with(
     let demand = exec.demand(&ev, &base.theta(base_best))?.map_err(DiagnoseError::Model)?;
     let mut cals: Vec<Calibration> = vec![base];
     let mut linear_parts: Vec<Option<Calibration>> = vec![None];
-    for c in opts.candidates.iter().copied().filter(|c| *c != Cause::None) {
+    let boundary = crate::specimen::fe_boundary(b.manifest.structure.boundary);
+    let in_place = |c: &Cause| *c != Cause::None && c.has_place(boundary);
+    for c in opts.candidates.iter().copied().filter(in_place) {
         let stage = format!("calibrating {}", c.as_str());
         let rival = cals.iter().flat_map(|k| k.objective(&n_eff0)).fold(f64::INFINITY, f64::min);
         let around = Around { base: &base_u, demand, rival };

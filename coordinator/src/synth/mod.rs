@@ -79,6 +79,14 @@ pub enum SynthError {
     /// `hidden.effect` is not a known cause.
     #[error("hidden.effect = {0:?}: expected none, perimeter-pounding, perimeter-friction or connection-hysteresis")]
     Effect(String),
+    /// The hidden effect cannot act on this perimeter.
+    #[error("hidden.effect = {effect:?}: no grid end can slide on a {boundary:?} perimeter; expected none or connection-hysteresis")]
+    NoPlace {
+        /// The effect.
+        effect: &'static str,
+        /// `structure.boundary`.
+        boundary: &'static str,
+    },
     /// The specimen cannot be modelled.
     #[error(transparent)]
     Specimen(#[from] SpecimenError),
@@ -132,6 +140,10 @@ pub fn synthesize_with(
         None => Cause::None,
         Some(e) => Cause::parse(e).ok_or_else(|| SynthError::Effect(e.into()))?,
     };
+    let boundary = spec.structure.boundary;
+    if !cause.has_place(crate::specimen::fe_boundary(boundary)) {
+        return Err(SynthError::NoPlace { effect: cause.as_str(), boundary: boundary.as_str() });
+    }
     let inputs = spec
         .runs
         .iter()

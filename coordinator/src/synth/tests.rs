@@ -117,6 +117,11 @@ fn bad_campaigns_are_refused_with_the_key() {
             "noise.missing_fraction",
         ),
         (SPEC.replace("seed = 3", "seed = 3\ncolour = 1"), "unknown field"),
+        (
+            format!("{SPEC}\n[hidden]\neffect = \"perimeter-pounding\"\n")
+                .replace("boundary = \"semi-free\"", "boundary = \"fixed\""),
+            "hidden.effect = \"perimeter-pounding\": no grid end can slide on a \"fixed\" perimeter",
+        ),
     ];
     for (text, key) in cases {
         let spec = write(tmp.path(), &text);

@@ -21,5 +21,6 @@ pub use params::{
     param_info, parameters_for, Domain, ParamError, ParamInfo, Parameters, EXTENSIONS, PARAMETERS,
 };
 pub use spec::{
-    Boundary, CeilingSpec, Connections, ModelOptions, Perimeter, SpecError, Structure, Variant,
+    Boundary, CeilingSpec, Connections, EndCondition, ModelOptions, Perimeter, SpecError,
+    Structure, Variant,
 };

@@ -1,6 +1,11 @@
-//! The semi-free perimeter (seed Table 4.5): each grid end slides along its
-//! own axis against a friction spring and may pound the wall angle across
-//! the gap; perpendicular and vertical restraints are 10 kN/mm.
+//! The perimeter (seed Table 4.5): on a semi-free wall each grid end slides
+//! along its own axis against a friction spring and may pound the wall angle
+//! across the gap; perpendicular and vertical restraints are 10 kN/mm. On a
+//! free wall the end is unattached: the along-axis law acts across the axis
+//! too (group `perimeter_friction_across`; no gap there). On a fixed wall
+//! the end is held by 10 kN/mm in every direction (group `perimeter_fixed`
+//! along its axis), with no friction and no gap. Which walls are which:
+//! [`super::spec::Boundary::on_side`].
 //!
 //! Along-axis laws by `[model] perimeter`:
 //! - `linear`: Elastic K_friction;
@@ -23,7 +28,7 @@
 
 use super::grid::{Grid, Member};
 use super::params::Parameters;
-use super::spec::CeilingSpec;
+use super::spec::{CeilingSpec, EndCondition};
 use crate::materials::MaterialSpec;
 use crate::model::{MaterialDef, Model, Node, Spring};
 
@@ -66,7 +71,7 @@ fn ends(g: &Grid) -> Vec<End> {
     ends
 }
 
-/// Materials, wall nodes and springs of the semi-free perimeter; returns the wall nodes.
+/// Materials, wall nodes and springs of the perimeter; returns the wall nodes.
 pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Vec<Node> {
     m.materials = materials(spec, p)
         .into_iter()
@@ -84,12 +89,28 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
         walls.push(Node { id: wall, xyz_mm });
         let (a, b) = if wall_first { (wall, grid) } else { (grid, wall) };
         let perpendicular = if axial == 1 { 2 } else { 1 };
-        let mut list = vec![(axial, friction_mat, "perimeter_friction")];
-        if per.has_pounding() {
-            list.push((axial, first_gap + member.index(), "perimeter_gap"));
-        }
-        list.push((perpendicular, 2, "perimeter_perpendicular"));
-        list.push((3, 2, "perimeter_vertical"));
+        let list = match spec.structure.boundary.on_side(side) {
+            EndCondition::Fixed => vec![
+                (axial, 2, "perimeter_fixed"),
+                (perpendicular, 2, "perimeter_perpendicular"),
+                (3, 2, "perimeter_vertical"),
+            ],
+            condition => {
+                let mut list = vec![(axial, friction_mat, "perimeter_friction")];
+                if per.has_pounding() {
+                    list.push((axial, first_gap + member.index(), "perimeter_gap"));
+                }
+                let across = match condition {
+                    EndCondition::Free => {
+                        (perpendicular, friction_mat, "perimeter_friction_across")
+                    }
+                    _ => (perpendicular, 2, "perimeter_perpendicular"),
+                };
+                list.push(across);
+                list.push((3, 2, "perimeter_vertical"));
+                list
+            }
+        };
         for (dof, mat, group) in list {
             m.springs.push(Spring {
                 id: 100001 + m.springs.len() as u64,

@@ -14,6 +14,54 @@ use serde::{Deserialize, Serialize};
 pub enum Boundary {
     /// Grid ends clipped to the wall angle, sliding along their own axis.
     SemiFree,
+    /// Grid ends resting on the wall angle, unattached: friction both ways
+    /// in the plane, contact across the gap along their axis (seed 4.2.2).
+    Free,
+    /// Grid ends riveted or clipped fast to the wall angle on every side.
+    Fixed,
+    /// Fixed on the two walls through the origin (x = 0, y = 0), semi-free
+    /// on the two opposite walls (seed 4.2.2, the American style).
+    FixedSemiFree,
+}
+
+/// How the grid ends on one wall are held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EndCondition {
+    /// Sliding clip: friction along the axis, held across it.
+    SemiFree,
+    /// Unattached: friction along and across the axis.
+    Free,
+    /// Held in every direction.
+    Fixed,
+}
+
+impl Boundary {
+    /// The spelling in `[structure] boundary`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Boundary::SemiFree => "semi-free",
+            Boundary::Free => "free",
+            Boundary::Fixed => "fixed",
+            Boundary::FixedSemiFree => "fixed-semi-free",
+        }
+    }
+
+    /// The condition of the grid ends on wall `side` (`x0`, `x1`, `y0`, `y1`).
+    pub fn on_side(self, side: &str) -> EndCondition {
+        match self {
+            Boundary::SemiFree => EndCondition::SemiFree,
+            Boundary::Free => EndCondition::Free,
+            Boundary::Fixed => EndCondition::Fixed,
+            Boundary::FixedSemiFree if side.ends_with('0') => EndCondition::Fixed,
+            Boundary::FixedSemiFree => EndCondition::SemiFree,
+        }
+    }
+
+    /// Whether some grid ends can slide and strike the wall (the
+    /// perimeter-friction and perimeter-pounding physics has a place).
+    pub fn has_sliding_ends(self) -> bool {
+        self != Boundary::Fixed
+    }
 }
 
 /// Which perimeter springs to write (shorthand kept from the first format).
