@@ -71,6 +71,31 @@ fn ends(g: &Grid) -> Vec<End> {
     ends
 }
 
+/// The (dof, material, group) of each spring at one grid end whose axis is
+/// `axial`: the along-axis law `friction_mat` (plus the gap `gap_mat`, if
+/// any) and the restraints (material 2) its wall's `condition` gives.
+fn end_springs(
+    condition: EndCondition,
+    axial: u8,
+    friction_mat: u64,
+    gap_mat: Option<u64>,
+) -> Vec<(u8, u64, &'static str)> {
+    let perpendicular = if axial == 1 { 2 } else { 1 };
+    let mut list = match condition {
+        EndCondition::Fixed => vec![(axial, 2, "perimeter_fixed")],
+        _ => vec![(axial, friction_mat, "perimeter_friction")],
+    };
+    if let (Some(gap), false) = (gap_mat, condition == EndCondition::Fixed) {
+        list.push((axial, gap, "perimeter_gap"));
+    }
+    list.push(match condition {
+        EndCondition::Free => (perpendicular, friction_mat, "perimeter_friction_across"),
+        _ => (perpendicular, 2, "perimeter_perpendicular"),
+    });
+    list.push((3, 2, "perimeter_vertical"));
+    list
+}
+
 /// Materials, wall nodes and springs of the perimeter; returns the wall nodes.
 pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Vec<Node> {
     m.materials = materials(spec, p)
@@ -88,29 +113,9 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
         let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, 0.0];
         walls.push(Node { id: wall, xyz_mm });
         let (a, b) = if wall_first { (wall, grid) } else { (grid, wall) };
-        let perpendicular = if axial == 1 { 2 } else { 1 };
-        let list = match spec.structure.boundary.on_side(side) {
-            EndCondition::Fixed => vec![
-                (axial, 2, "perimeter_fixed"),
-                (perpendicular, 2, "perimeter_perpendicular"),
-                (3, 2, "perimeter_vertical"),
-            ],
-            condition => {
-                let mut list = vec![(axial, friction_mat, "perimeter_friction")];
-                if per.has_pounding() {
-                    list.push((axial, first_gap + member.index(), "perimeter_gap"));
-                }
-                let across = match condition {
-                    EndCondition::Free => {
-                        (perpendicular, friction_mat, "perimeter_friction_across")
-                    }
-                    _ => (perpendicular, 2, "perimeter_perpendicular"),
-                };
-                list.push(across);
-                list.push((3, 2, "perimeter_vertical"));
-                list
-            }
-        };
+        let gap_mat = per.has_pounding().then(|| first_gap + member.index());
+        let condition = spec.structure.boundary.on_side(side);
+        let list = end_springs(condition, axial, friction_mat, gap_mat);
         for (dof, mat, group) in list {
             m.springs.push(Spring {
                 id: 100001 + m.springs.len() as u64,
