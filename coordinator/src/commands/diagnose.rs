@@ -64,6 +64,12 @@ pub struct Args {
     /// (grid modules x calibration samples at most 250 000).
     #[arg(long, value_enum, default_value_t = DampingPathUse::WhenContending)]
     pub damping_path: DampingPathUse,
+    /// Runs recorded at twice this rate or faster are low-passed and
+    /// decimated to the whole fraction of their rate nearest it from above
+    /// before calibration (Hz; 0: simulate every run at its own rate, slower
+    /// in proportion).
+    #[arg(long, default_value_t = coordinator::diagnose::resample::SIMULATION_RATE_HZ)]
+    pub simulation_rate_hz: f64,
 }
 
 /// Runs `diagnose`.
@@ -86,7 +92,12 @@ pub fn run(a: Args) -> Result<()> {
         settings: FarmSettings::default(),
         store: Some(a.store.unwrap_or(sweep.store)),
     };
-    let opts = DiagnoseOptions { budget, ..Default::default() };
+    let rate = a.simulation_rate_hz;
+    if !(rate >= 0.0 && rate.is_finite()) {
+        anyhow::bail!("--simulation-rate-hz {rate}: expected a rate in Hz, or 0 for none");
+    }
+    let simulation_rate_hz = (rate > 0.0).then_some(rate);
+    let opts = DiagnoseOptions { budget, simulation_rate_hz, ..Default::default() };
     let report = diagnose_dir(&a.bundle, &a.out, &opts, &plan, a.farm.quiet)?;
     println!("report: {}", report.display());
     Ok(())
@@ -103,7 +114,10 @@ pub fn diagnose_dir(
 ) -> Result<PathBuf> {
     let bundle = coordinator::bundle::read_bundle(dir)?;
     eprintln!("{}", bundle.summary());
-    let (bundle, resampled) = coordinator::diagnose::resample::for_simulation(&bundle);
+    let (bundle, resampled) = match opts.simulation_rate_hz {
+        Some(rate) => coordinator::diagnose::resample::for_simulation(&bundle, rate),
+        None => (bundle, vec![]),
+    };
     for r in &resampled {
         eprintln!(
             "run {}: recorded at {:.0} Hz, low-passed and simulated at {:.0} Hz",

@@ -25,11 +25,18 @@ pub struct DiagnoseOptions {
     pub budget: Budget,
     /// Variants tried (the baseline is always tried).
     pub candidates: Vec<Cause>,
+    /// Runs recorded at twice this rate or faster are decimated towards it
+    /// before they are simulated (Hz; None: every run at its own rate).
+    pub simulation_rate_hz: Option<f64>,
 }
 
 impl Default for DiagnoseOptions {
     fn default() -> Self {
-        DiagnoseOptions { budget: Budget::default(), candidates: Cause::ALL.to_vec() }
+        DiagnoseOptions {
+            budget: Budget::default(),
+            candidates: Cause::ALL.to_vec(),
+            simulation_rate_hz: Some(super::resample::SIMULATION_RATE_HZ),
+        }
     }
 }
 

@@ -1,16 +1,17 @@
 //! Runs recorded faster than the simulation needs, brought down to it: a
 //! lab may sample at 1 kHz or more, the FE model integrates at the
 //! sampling step, and the ceiling's response of interest lies below 30 Hz.
-//! A run sampled at `q` ≥ 2 times [`SIMULATION_RATE_HZ`] (q whole, the
-//! largest that keeps the rate at or above it) is low-passed by a
+//! A run sampled at `q` ≥ 2 times the simulation's rate ([`SIMULATION_RATE_HZ`]
+//! by default; q whole, the largest that keeps the rate at or above it) is
+//! low-passed by a
 //! zero-phase windowed-sinc filter below the new Nyquist frequency and
 //! every q-th sample kept, its input and its sensors alike, so that the
 //! simulation and the measurements it is compared with see the same band.
 
 use crate::bundle::{Bundle, RunData};
 
-/// The sampling rate a diagnosis simulates at when a run is recorded at
-/// least twice as fast (Hz).
+/// The sampling rate a diagnosis simulates at by default when a run is
+/// recorded at least twice as fast (Hz).
 pub const SIMULATION_RATE_HZ: f64 = 200.0;
 
 /// Filter corner over the new Nyquist frequency (80 Hz at 200 Hz).
@@ -34,12 +35,12 @@ pub struct Decimated {
 }
 
 /// The whole factor that brings a run sampled every `dt_s` down to the
-/// rate nearest [`SIMULATION_RATE_HZ`] from above (1: left as it is).
-pub fn decimation_factor(dt_s: f64) -> usize {
-    if !(dt_s > 0.0 && dt_s.is_finite()) {
+/// rate nearest `rate_hz` from above (1: left as it is).
+pub fn decimation_factor(dt_s: f64, rate_hz: f64) -> usize {
+    if !(dt_s > 0.0 && dt_s.is_finite() && rate_hz > 0.0 && rate_hz.is_finite()) {
         return 1;
     }
-    let q = (1.0 / (dt_s * SIMULATION_RATE_HZ) + 1e-9).floor();
+    let q = (1.0 / (dt_s * rate_hz) + 1e-9).floor();
     if q >= 2.0 {
         q as usize
     } else {
@@ -47,13 +48,13 @@ pub fn decimation_factor(dt_s: f64) -> usize {
     }
 }
 
-/// The bundle with every run sampled at twice [`SIMULATION_RATE_HZ`] or
-/// faster decimated, and what was done to which run.
-pub fn for_simulation(b: &Bundle) -> (Bundle, Vec<Decimated>) {
+/// The bundle with every run sampled at twice `rate_hz` or faster
+/// decimated, and what was done to which run.
+pub fn for_simulation(b: &Bundle, rate_hz: f64) -> (Bundle, Vec<Decimated>) {
     let mut out = b.clone();
     let mut done = Vec::new();
     for run in &mut out.runs {
-        let q = decimation_factor(run.dt_s);
+        let q = decimation_factor(run.dt_s, rate_hz);
         if q < 2 {
             continue;
         }
@@ -155,15 +156,18 @@ mod tests {
 
     #[test]
     fn the_factor_keeps_the_rate_at_or_above_the_simulations() {
-        assert_eq!(decimation_factor(1.0 / 1000.0), 5);
-        assert_eq!(decimation_factor(1.0 / 2048.0), 10);
-        assert_eq!(decimation_factor(1.0 / 500.0), 2);
-        assert_eq!(decimation_factor(1.0 / 400.0), 2);
+        let q = |rate_hz: f64| decimation_factor(1.0 / rate_hz, SIMULATION_RATE_HZ);
+        assert_eq!(q(1000.0), 5);
+        assert_eq!(q(2048.0), 10);
+        assert_eq!(q(500.0), 2);
+        assert_eq!(q(400.0), 2);
         for rate in [100.0, 200.0, 256.0, 399.0] {
-            assert_eq!(decimation_factor(1.0 / rate), 1, "{rate} Hz");
+            assert_eq!(q(rate), 1, "{rate} Hz");
         }
-        assert_eq!(decimation_factor(0.0), 1);
-        assert_eq!(decimation_factor(f64::NAN), 1);
+        assert_eq!(decimation_factor(1e-3, 500.0), 2);
+        assert_eq!(decimation_factor(0.0, 200.0), 1);
+        assert_eq!(decimation_factor(f64::NAN, 200.0), 1);
+        assert_eq!(decimation_factor(1e-3, 0.0), 1);
     }
 
     /// A 10 Hz tone at 1 kHz decimated by 5 is the tone sampled at 200 Hz
@@ -213,7 +217,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let mut b = super::super::farm_executor_tests::tiny_bundle(dir.path());
         b.runs[1].dt_s = 1e-3;
-        let (out, done) = for_simulation(&b);
+        let (out, done) = for_simulation(&b, SIMULATION_RATE_HZ);
         assert_eq!(done, vec![Decimated { run: b.runs[1].id.clone(), from_hz: 1e3, to_hz: 200.0 }]);
         let n = b.runs[1].n_samples();
         assert_eq!(out.runs[1].n_samples(), (n - 1) / 5 + 1);
