@@ -2,7 +2,7 @@
 //! types: `bundle::Structure` → `fe::generator::CeilingSpec`, bundle sensors
 //! → `fe::ceiling::Sensor`, run data → `fe::ceiling::BaseInput`.
 
-use crate::bundle::{self, Boundary, RunData};
+use crate::bundle::{self, RunData};
 use fe::ceiling::{BaseInput, Direction, Sensor, SensorKind};
 use fe::generator::{CeilingSpec, ModelOptions, Structure};
 
@@ -17,21 +17,10 @@ pub enum SpecimenError {
     Spec(String),
 }
 
-/// The FE generator's perimeter condition of a bundle's.
-pub fn fe_boundary(b: Boundary) -> fe::generator::Boundary {
-    match b {
-        Boundary::Free => fe::generator::Boundary::Free,
-        Boundary::Fixed => fe::generator::Boundary::Fixed,
-        Boundary::FixedSemiFree => fe::generator::Boundary::FixedSemiFree,
-        Boundary::SemiFree => fe::generator::Boundary::SemiFree,
-    }
-}
-
 /// The FE specimen of a bundle's structure with the given model options
 /// (a fixed perimeter has no gap: 0 mm).
 pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec, SpecimenError> {
-    let boundary = fe_boundary(s.boundary);
-    let gap = match (s.nominal_gap_mm, boundary.has_sliding_ends()) {
+    let gap = match (s.nominal_gap_mm, s.boundary.has_sliding_ends()) {
         (Some(g), _) => g,
         (None, false) => 0.0,
         (None, true) => return Err(SpecimenError::MissingGap(s.boundary.as_str())),
@@ -46,7 +35,7 @@ pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec
             hanger_length_m: s.hanger_length_m,
             panel_mass_kg: s.panel_mass_kg,
             layers: s.layers,
-            boundary,
+            boundary: s.boundary,
             nominal_gap_mm: gap,
         },
         model,
@@ -146,20 +135,11 @@ pub fn bundle_series(sensors: &[bundle::Sensor], sim: &fe::ceiling::Simulation) 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bundle::Boundary;
 
     fn structure(boundary: Boundary, gap: Option<f64>) -> bundle::Structure {
-        bundle::Structure {
-            length_x_m: 2.4,
-            length_y_m: 2.4,
-            module_m: 0.6,
-            main_tee_spacing_m: 1.2,
-            hanger_spacing_m: 1.2,
-            hanger_length_m: 1.0,
-            panel_mass_kg: 1.2,
-            layers: 1,
-            boundary,
-            nominal_gap_mm: gap,
-        }
+        let square = crate::diagnose::testkit::square_structure(2.4, 0.0);
+        bundle::Structure { boundary, nominal_gap_mm: gap, ..square }
     }
 
     #[test]
@@ -167,7 +147,7 @@ mod tests {
         let all = [Boundary::Free, Boundary::Fixed, Boundary::FixedSemiFree, Boundary::SemiFree];
         for b in all {
             let spec = fe_spec(&structure(b, Some(12.0)), ModelOptions::default()).unwrap();
-            assert_eq!(spec.structure.boundary.as_str(), b.as_str());
+            assert_eq!(spec.structure.boundary, b);
             assert_eq!(spec.structure.nominal_gap_mm, 12.0);
         }
         let fixed = fe_spec(&structure(Boundary::Fixed, None), ModelOptions::default()).unwrap();

@@ -8,7 +8,7 @@ mod common;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use common::verification_dir;
+use common::{type_c_structure, verification_dir};
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{
     generate, Boundary, CeilingSpec, Connections, EndCondition, ModelOptions, Parameters,
@@ -22,18 +22,7 @@ const BOUNDARIES: [Boundary; 4] =
     [Boundary::SemiFree, Boundary::Free, Boundary::Fixed, Boundary::FixedSemiFree];
 
 fn specimen(boundary: Boundary, perimeter: Perimeter) -> CeilingSpec {
-    let structure = Structure {
-        length_x_m: 2.4,
-        length_y_m: 3.6,
-        module_m: 0.6,
-        main_tee_spacing_m: 1.2,
-        hanger_spacing_m: 1.2,
-        hanger_length_m: 1.0,
-        panel_mass_kg: 1.2,
-        layers: 1,
-        boundary,
-        nominal_gap_mm: 19.0,
-    };
+    let structure = Structure { layers: 1, boundary, ..type_c_structure(2.4, 3.6) };
     CeilingSpec::new(structure, ModelOptions::new(perimeter, Connections::Elastic)).unwrap()
 }
 

@@ -9,11 +9,11 @@ mod common;
 
 use std::path::Path;
 
-use common::verification_dir;
+use common::{type_c_structure, verification_dir};
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{
-    generate, parameters_for, Boundary, CeilingSpec, Connections, GenerateError, ModelOptions,
-    ParamError, Parameters, Perimeter, Structure,
+    generate, parameters_for, CeilingSpec, Connections, GenerateError, ModelOptions, ParamError,
+    Parameters, Perimeter,
 };
 use fe::materials::build;
 use fe::model::{validate, Analysis, Damping, Model};
@@ -27,18 +27,7 @@ const CONNECTIONS: [Connections; 3] =
 
 /// A semi-free specimen of the type-C members, `lx_m` x `ly_m`.
 fn specimen(lx_m: f64, ly_m: f64, perimeter: Perimeter, connections: Connections) -> CeilingSpec {
-    let structure = Structure {
-        length_x_m: lx_m,
-        length_y_m: ly_m,
-        module_m: 0.6,
-        main_tee_spacing_m: 1.2,
-        hanger_spacing_m: 1.2,
-        hanger_length_m: 1.0,
-        panel_mass_kg: 1.2,
-        layers: 2,
-        boundary: Boundary::SemiFree,
-        nominal_gap_mm: 19.0,
-    };
+    let structure = type_c_structure(lx_m, ly_m);
     CeilingSpec::new(structure, ModelOptions::new(perimeter, connections)).unwrap()
 }
 

@@ -5,31 +5,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 use std::path::{Component, Path, PathBuf};
 
-/// Perimeter condition of the ceiling (seed Table 4.5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Boundary {
-    /// No perimeter restraint.
-    Free,
-    /// All sides fixed to the wall angle.
-    Fixed,
-    /// Two sides fixed, two semi-free.
-    FixedSemiFree,
-    /// All sides held by sliding clips with a gap to the wall angle.
-    SemiFree,
-}
-
-impl Boundary {
-    /// The spelling in `bundle.toml`.
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            Boundary::Free => "free",
-            Boundary::Fixed => "fixed",
-            Boundary::FixedSemiFree => "fixed-semi-free",
-            Boundary::SemiFree => "semi-free",
-        }
-    }
-}
+/// Perimeter condition of the ceiling (seed Table 4.5, 4.2.2): the FE
+/// generator's, spelled as `bundle.toml` spells it.
+pub use fe::generator::Boundary;
 
 /// The specimen as built (nominal values).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

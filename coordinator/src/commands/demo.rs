@@ -57,7 +57,8 @@ pub fn run(a: Args) -> Result<()> {
         settings: FarmSettings::default(),
         store: Some(store.clone()),
     };
-    let report = super::diagnose::diagnose_dir(&bundle, &out, &opts, &plan, a.quiet)?;
+    let rate = Some(coordinator::diagnose::resample::SIMULATION_RATE_HZ);
+    let report = super::diagnose::diagnose_dir(&bundle, &out, &opts, rate, &plan, a.quiet)?;
     let truth: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&answer)?)?;
     println!("hidden effect was: {}", truth["cause"].as_str().unwrap_or("?"));
     println!("store: {}", store.display());

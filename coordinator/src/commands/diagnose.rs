@@ -96,25 +96,28 @@ pub fn run(a: Args) -> Result<()> {
     if !(rate >= 0.0 && rate.is_finite()) {
         anyhow::bail!("--simulation-rate-hz {rate}: expected a rate in Hz, or 0 for none");
     }
-    let simulation_rate_hz = (rate > 0.0).then_some(rate);
-    let opts = DiagnoseOptions { budget, simulation_rate_hz, ..Default::default() };
-    let report = diagnose_dir(&a.bundle, &a.out, &opts, &plan, a.farm.quiet)?;
+    let opts = DiagnoseOptions { budget, ..Default::default() };
+    let report =
+        diagnose_dir(&a.bundle, &a.out, &opts, (rate > 0.0).then_some(rate), &plan, a.farm.quiet)?;
     println!("report: {}", report.display());
     Ok(())
 }
 
-/// Diagnoses the bundle in `dir` on the farm of `plan`, writes the verdict
-/// and report to `out`; returns the report's path.
+/// Diagnoses the bundle in `dir` on the farm of `plan`, its runs recorded
+/// at twice `simulation_rate_hz` or faster decimated towards it (None: every
+/// run at its own rate), writes the verdict and report to `out`; returns the
+/// report's path.
 pub fn diagnose_dir(
     dir: &Path,
     out: &Path,
     opts: &DiagnoseOptions,
+    simulation_rate_hz: Option<f64>,
     plan: &FarmPlan,
     quiet: bool,
 ) -> Result<PathBuf> {
     let bundle = coordinator::bundle::read_bundle(dir)?;
     eprintln!("{}", bundle.summary());
-    let (bundle, resampled) = match opts.simulation_rate_hz {
+    let (bundle, resampled) = match simulation_rate_hz {
         Some(rate) => coordinator::diagnose::resample::for_simulation(&bundle, rate),
         None => (bundle, vec![]),
     };

@@ -275,7 +275,7 @@ fn input(run: &RunData, dir: Direction) -> Option<&[f64]> {
 }
 
 /// Peak |input| of a run in a direction (g); 0 without that input.
-fn pga_g(run: &RunData, dir: Direction) -> f64 {
+pub(super) fn pga_g(run: &RunData, dir: Direction) -> f64 {
     input(run, dir)
         .map_or(0.0, |x| x.iter().filter(|v| v.is_finite()).fold(0.0f64, |m, v| m.max(v.abs())) / G)
 }

@@ -42,7 +42,6 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
             damping_path: super::damping_path::DampingPathUse::Never,
         },
         candidates: vec![Cause::None, Cause::PerimeterPounding],
-        ..DiagnoseOptions::default()
     }
 }
 

@@ -35,7 +35,7 @@ pub mod symptoms;
 pub mod verdict;
 
 #[cfg(test)]
-mod testkit;
+pub(crate) mod testkit;
 
 #[cfg(test)]
 mod farm_executor_tests;

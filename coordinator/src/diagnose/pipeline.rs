@@ -8,6 +8,7 @@ use super::calibrate::{calibrate, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
 use super::cause::Cause;
 use super::ensemble;
+use super::evidence::pga_g;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
 use super::fit::{
     effective_sizes, mean_excess_nrmse, mean_nrmse, ChannelFit, Evaluation, Simulated,
@@ -16,7 +17,7 @@ use super::linear_part::calibrate_linear_part;
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use super::posterior::{variational_posterior, VariationalPosterior};
 use super::refine::{planned_runs, refine, refine_walks};
-use crate::bundle::{Bundle, RunRole};
+use crate::bundle::{Bundle, Direction, RunRole};
 
 /// Choices of a diagnosis.
 #[derive(Debug, Clone)]
@@ -25,18 +26,11 @@ pub struct DiagnoseOptions {
     pub budget: Budget,
     /// Variants tried (the baseline is always tried).
     pub candidates: Vec<Cause>,
-    /// Runs recorded at twice this rate or faster are decimated towards it
-    /// before they are simulated (Hz; None: every run at its own rate).
-    pub simulation_rate_hz: Option<f64>,
 }
 
 impl Default for DiagnoseOptions {
     fn default() -> Self {
-        DiagnoseOptions {
-            budget: Budget::default(),
-            candidates: Cause::ALL.to_vec(),
-            simulation_rate_hz: Some(super::resample::SIMULATION_RATE_HZ),
-        }
+        DiagnoseOptions { budget: Budget::default(), candidates: Cause::ALL.to_vec() }
     }
 }
 
@@ -152,20 +146,9 @@ pub struct Diagnosis {
 /// Splits runs by role; without roles, the strongest run validates.
 pub fn split_runs(b: &Bundle) -> (Vec<usize>, Vec<usize>) {
     let roles: Vec<Option<RunRole>> = b.manifest.runs.iter().map(|r| r.role).collect();
-    let peaks: Vec<f64> = b.runs.iter().map(peak_input_m_s2).collect();
+    let peak_g = |r| pga_g(r, Direction::X).max(pga_g(r, Direction::Y));
+    let peaks: Vec<f64> = b.runs.iter().map(peak_g).collect();
     split_by(&roles, &peaks)
-}
-
-/// Largest |floor acceleration| of a run over its input columns (m/s²;
-/// missing readings skipped).
-fn peak_input_m_s2(run: &crate::bundle::RunData) -> f64 {
-    let columns = [&run.input_x_m_s2, &run.input_y_m_s2];
-    columns
-        .iter()
-        .filter_map(|c| c.as_deref())
-        .flatten()
-        .filter(|v| v.is_finite())
-        .fold(0.0, |m, v| m.max(v.abs()))
 }
 
 /// The split of runs with these roles and peak inputs: by role when any
@@ -173,7 +156,7 @@ fn peak_input_m_s2(run: &crate::bundle::RunData) -> f64 {
 /// without roles the run with the largest peak input (the later on a tie)
 /// validates, so that a white-noise check run after the last shake does
 /// not become the test of the extension's physics.
-fn split_by(roles: &[Option<RunRole>], peaks_m_s2: &[f64]) -> (Vec<usize>, Vec<usize>) {
+fn split_by(roles: &[Option<RunRole>], peaks: &[f64]) -> (Vec<usize>, Vec<usize>) {
     let n = roles.len();
     if roles.iter().all(Option::is_none) {
         if n < 2 {
@@ -181,7 +164,7 @@ fn split_by(roles: &[Option<RunRole>], peaks_m_s2: &[f64]) -> (Vec<usize>, Vec<u
         }
         // max_by keeps the last of equal maxima: the later run.
         let strongest = (0..n)
-            .max_by(|a, b| peak_or_zero(peaks_m_s2, *a).total_cmp(&peak_or_zero(peaks_m_s2, *b)))
+            .max_by(|a, b| peak_or_zero(peaks, *a).total_cmp(&peak_or_zero(peaks, *b)))
             .unwrap_or(n - 1);
         return ((0..n).filter(|k| *k != strongest).collect(), vec![strongest]);
     }
@@ -250,7 +233,7 @@ pub fn diagnose_with(
     let demand = exec.demand(&ev, &base.theta(base_best))?.map_err(DiagnoseError::Model)?;
     let mut cals: Vec<Calibration> = vec![base];
     let mut linear_parts: Vec<Option<Calibration>> = vec![None];
-    let boundary = crate::specimen::fe_boundary(b.manifest.structure.boundary);
+    let boundary = b.manifest.structure.boundary;
     let in_place = |c: &Cause| *c != Cause::None && c.has_place(boundary);
     for c in opts.candidates.iter().copied().filter(in_place) {
         let stage = format!("calibrating {}", c.as_str());

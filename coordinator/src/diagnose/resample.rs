@@ -1,12 +1,12 @@
 //! Runs recorded faster than the simulation needs, brought down to it: a
 //! lab may sample at 1 kHz or more, the FE model integrates at the
 //! sampling step, and the ceiling's response of interest lies below 30 Hz.
-//! A run sampled at `q` ≥ 2 times the simulation's rate ([`SIMULATION_RATE_HZ`]
-//! by default; q whole, the largest that keeps the rate at or above it) is
-//! low-passed by a
-//! zero-phase windowed-sinc filter below the new Nyquist frequency and
-//! every q-th sample kept, its input and its sensors alike, so that the
-//! simulation and the measurements it is compared with see the same band.
+//! A run sampled at `q` ≥ 2 times the simulation's rate
+//! ([`SIMULATION_RATE_HZ`] by default; q whole, the largest that keeps the
+//! rate at or above it) is low-passed by a zero-phase windowed-sinc filter
+//! below the new Nyquist frequency and every q-th sample kept, its input
+//! and its sensors alike, so that the simulation and the measurements it
+//! is compared with see the same band.
 
 use crate::bundle::{Bundle, RunData};
 

@@ -141,7 +141,7 @@ pub fn synthesize_with(
         Some(e) => Cause::parse(e).ok_or_else(|| SynthError::Effect(e.into()))?,
     };
     let boundary = spec.structure.boundary;
-    if !cause.has_place(crate::specimen::fe_boundary(boundary)) {
+    if !cause.has_place(boundary) {
         return Err(SynthError::NoPlace { effect: cause.as_str(), boundary: boundary.as_str() });
     }
     let inputs = spec

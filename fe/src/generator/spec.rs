@@ -12,8 +12,6 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Boundary {
-    /// Grid ends clipped to the wall angle, sliding along their own axis.
-    SemiFree,
     /// Grid ends resting on the wall angle, unattached: friction both ways
     /// in the plane, contact across the gap along their axis (seed 4.2.2).
     Free,
@@ -22,6 +20,8 @@ pub enum Boundary {
     /// Fixed on the two walls through the origin (x = 0, y = 0), semi-free
     /// on the two opposite walls (seed 4.2.2, the American style).
     FixedSemiFree,
+    /// Grid ends clipped to the wall angle, sliding along their own axis.
+    SemiFree,
 }
 
 /// How the grid ends on one wall are held.

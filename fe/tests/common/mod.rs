@@ -3,6 +3,25 @@
 
 use std::path::{Path, PathBuf};
 
+use fe::generator::{Boundary, Structure};
+
+/// A semi-free double-layer specimen of the type-C members, `lx_m` x
+/// `ly_m`, on the 0.6 m module with the seed's 19 mm gap.
+pub fn type_c_structure(lx_m: f64, ly_m: f64) -> Structure {
+    Structure {
+        length_x_m: lx_m,
+        length_y_m: ly_m,
+        module_m: 0.6,
+        main_tee_spacing_m: 1.2,
+        hanger_spacing_m: 1.2,
+        hanger_length_m: 1.0,
+        panel_mass_kg: 1.2,
+        layers: 2,
+        boundary: Boundary::SemiFree,
+        nominal_gap_mm: 19.0,
+    }
+}
+
 /// The shared verification folder: `CEILFARM_SHARED` if set, else the first
 /// `shared/verification` found above this crate.
 pub fn verification_dir() -> PathBuf {
