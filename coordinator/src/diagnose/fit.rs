@@ -316,17 +316,25 @@ pub fn mean_nrmse(ch: &[ChannelFit]) -> f64 {
 }
 
 /// Mean over the shaken channels (all when none is) of the NRMSE in excess
-/// of each channel's noise variance `noise_var[c]` (see [`super::noise_floor`]).
+/// of each channel's noise variance `noise_var[c]` (see [`super::noise_floor`]),
+/// each channel weighted by the share of its measured power that is signal
+/// ([`super::noise_floor::signal_share`]; equal weights if no channel has
+/// any): a channel that reads mostly noise adds the error of its noise
+/// estimate, not a model's.
 pub fn mean_excess_nrmse(ch: &[ChannelFit], noise_var: &[f64]) -> f64 {
-    let e: Vec<f64> = ch
-        .iter()
-        .zip(noise_var)
-        .map(|(c, v)| {
-            let mse = c.ssr / c.n.max(1) as f64;
-            super::noise_floor::excess_nrmse(mse, c.rms_meas * c.rms_meas, *v)
-        })
-        .collect();
-    mean_over_shaken(ch, &e)
+    let shaken = ch.iter().any(|c| c.excited);
+    let (mut sum, mut weights, mut plain, mut count) = (0.0, 0.0, 0.0, 0usize);
+    for (c, v) in ch.iter().zip(noise_var).filter(|(c, _)| c.excited || !shaken) {
+        let ms = c.rms_meas * c.rms_meas;
+        let e = super::noise_floor::excess_nrmse(c.ssr / c.n.max(1) as f64, ms, *v);
+        let w = super::noise_floor::signal_share(ms, *v);
+        (sum, weights, plain, count) = (sum + w * e, weights + w, plain + e, count + 1);
+    }
+    match count {
+        0 => f64::NAN,
+        _ if weights > 0.0 => sum / weights,
+        _ => plain / count as f64,
+    }
 }
 
 /// Mean of per-channel `values` over the shaken channels, or over all

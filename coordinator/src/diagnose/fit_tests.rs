@@ -1,5 +1,5 @@
 use super::cause::Cause;
-use super::fit::{least_squares_offset, ChannelFit, Evaluation};
+use super::fit::{least_squares_offset, mean_excess_nrmse, ChannelFit, Evaluation};
 use super::noise_floor::excess_nrmse;
 use super::testkit::pounding_diagnosis;
 use proptest::prelude::*;
@@ -44,4 +44,41 @@ fn a_disturbed_lead_in_does_not_count_against_a_models_prediction() {
     assert!(excess(&fitted) < 0.01, "fitted offset: {}", excess(&fitted));
     assert!(excess(&pre_event) > 0.03, "pre-event offset: {}", excess(&pre_event));
     assert_eq!(fitted.rms_meas, pre_event.rms_meas, "the signal is the same under both");
+}
+
+/// A shaken channel with `rms_meas` whose residual misses by `rms_res`.
+fn channel(rms_meas: f64, rms_res: f64) -> ChannelFit {
+    let n = 1000;
+    ChannelFit {
+        run: "r".into(),
+        sensor: "s".into(),
+        ssr: rms_res * rms_res * n as f64,
+        n,
+        rho: 0.0,
+        rms_meas,
+        excited: true,
+        noise_var: 0.0,
+    }
+}
+
+#[test]
+fn a_channel_that_reads_mostly_noise_does_not_set_the_validation_error() {
+    // An accelerometer predicted to its noise (signal 2.7, noise 0.02) and a
+    // displacement of 0.026 mm read with 0.05 mm noise, its residual 1.4 %
+    // above the estimated noise (a 3 % error in the noise variance).
+    let acc = channel((2.7f64.powi(2) + 0.02f64.powi(2)).sqrt(), 0.02);
+    let disp = channel((0.026f64.powi(2) + 0.05f64.powi(2)).sqrt(), 0.05 * 1.03f64.sqrt());
+    let noise = [0.02f64.powi(2), 0.05f64.powi(2)];
+    let plain = (0.0 + excess_nrmse(disp.ssr / 1000.0, disp.rms_meas.powi(2), noise[1])) / 2.0;
+    let weighted = mean_excess_nrmse(&[acc.clone(), disp], &noise);
+    assert!(plain > 0.1, "equal weights: {plain}");
+    // Weights 1 and 0.21 (the displacement's signal share) against 1 and 1.
+    assert!(weighted < 0.4 * plain, "{weighted} vs {plain}");
+    // A channel with no signal over its noise counts for nothing; alone, by
+    // equal weights.
+    let silent = channel(0.05, 0.06);
+    let both = mean_excess_nrmse(&[acc.clone(), silent.clone()], &noise);
+    assert!(both.abs() < 1e-12, "{both}");
+    let alone = mean_excess_nrmse(&[silent], &noise[1..]);
+    assert!(alone > 0.0 && alone.is_finite(), "{alone}");
 }

@@ -69,7 +69,8 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
              extension must beat the baseline by {MISFIT_NATS} nats). Validation errors are \
              the mean over the sensors of the validation runs of the normalised RMS error in \
              excess of the sensor noise, √max(MSE − σ², 0) / √(MS − σ²) (MSE of simulated − \
-             measured, MS of measured), 0 for a model that misses by the noise alone; each \
+             measured, MS of measured), 0 for a model that misses by the noise alone, each \
+             sensor weighted by the share of its measured power that is signal, (MS − σ²)/MS; each \
              sensor's constant offset is fitted to each model's prediction (least squares) and \
              σ² per sensor is the nugget of the residual's variogram, the smallest over the \
              candidate models. Raw NRMSE (noise included): baseline {}, extended {}.",
