@@ -156,6 +156,14 @@ pub fn diagnose_dir(
             v.cause
         );
     }
+    if coordinator::diagnose::report::unexplained_note(&d).is_some() {
+        eprintln!(
+            "warning: no extension fits the calibration runs better, but the baseline misses \
+             the validation runs by {:.3} in excess of the noise: they show something the \
+             calibration runs do not (see the report's verdict)",
+            v.baseline_validation_error
+        );
+    }
     if let Some(store) = &plan.store {
         eprintln!(
             "store: {} ({} FE evaluations run now on {} {} workers, {} re-used; {} run \

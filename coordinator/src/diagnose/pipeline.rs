@@ -67,6 +67,9 @@ pub struct CandidateResult {
     pub failed_points: usize,
     /// Mean normalised error on the calibration runs at the estimate.
     pub calibration_error: f64,
+    /// The same in excess of the sensor noise, as the validation error is
+    /// ([`mean_excess_nrmse`], each channel's own noise estimate).
+    pub calibration_excess_error: f64,
     /// Mean normalised error of the prediction of the validation runs
     /// ([`validation_sims`](Self::validation_sims)), in excess of the
     /// sensor noise ([`noise_floor`]; set once every candidate is in).
@@ -99,6 +102,7 @@ impl CandidateResult {
             fe_points: 0,
             failed_points: 0,
             calibration_error: f64::NAN,
+            calibration_excess_error: f64::NAN,
             validation_error: f64::NAN,
             validation_nrmse: f64::NAN,
             validation_sims: vec![],
@@ -492,6 +496,8 @@ fn assess(
         .collect();
     if let Ok(ch) = &cal.points[best].fit {
         out.calibration_error = mean_nrmse(ch);
+        let own: Vec<f64> = ch.iter().map(|c| c.noise_var).collect();
+        out.calibration_excess_error = mean_excess_nrmse(ch, &own);
     }
     let ev = Evaluation {
         bundle: b,

@@ -82,6 +82,7 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
     }
     blocks.extend(unconfirmed_note(d));
     blocks.extend(reach_note(b, d));
+    blocks.extend(unexplained_note(d));
     if d.calibration_runs == d.validation_runs {
         blocks.push(Block::Note {
             kind: NoteKind::Warning,
@@ -122,6 +123,38 @@ pub fn unconfirmed_note(d: &Diagnosis) -> Option<Block> {
         );
     }
     Some(Block::Note { kind: NoteKind::Warning, text })
+}
+
+/// With no extension chosen, the baseline's validation error over its
+/// calibration error (both in excess of the noise) above which the report
+/// says the validation runs show a response the calibration runs do not.
+pub const UNEXPLAINED_RATIO: f64 = 3.0;
+/// The baseline validation error that must be exceeded as well: a miss of
+/// a few percent is within what null campaigns show.
+pub const UNEXPLAINED_FLOOR: f64 = 0.03;
+
+/// A warning when no extension is chosen but the baseline misses the
+/// validation runs far more than the calibration runs: `none` is the
+/// verdict of the calibration runs, and the validation runs contradict it.
+pub fn unexplained_note(d: &Diagnosis) -> Option<Block> {
+    let base = d.candidates.iter().find(|c| c.cause == Cause::None)?;
+    let (val, cal) = (base.validation_error, base.calibration_excess_error);
+    let far = val > UNEXPLAINED_FLOOR && val > UNEXPLAINED_RATIO * cal.max(0.0);
+    (d.cause == Cause::None && val.is_finite() && cal.is_finite() && far).then(|| Block::Note {
+        kind: NoteKind::Warning,
+        text: format!(
+            "No extension earns its complexity on the calibration runs, yet the baseline \
+             misses the validation runs by {} in excess of the noise, against {} on the \
+             calibration runs: the validation runs show a response the calibration runs do \
+             not, and the baseline does not explain them within their noise. Physics that \
+             acts only above the calibration runs' amplitude (a gap that closes, a slip force \
+             that is reached) cannot be calibrated on them; the symptoms of the validation \
+             runs below say what it looks like, and calibrating on runs that reach it would \
+             name it.",
+            num(val),
+            num(cal)
+        ),
+    })
 }
 
 /// Validation peak over calibration peak above which the report says the
@@ -571,6 +604,29 @@ mod tests {
         assert_eq!(warning_text(unconfirmed_note(&d)), None);
         let (_, d) = pounding_diagnosis(true, true);
         assert_eq!(warning_text(unconfirmed_note(&d)), None, "NaN errors");
+    }
+
+    #[test]
+    fn a_baseline_the_validation_runs_contradict_is_flagged() {
+        let (_, mut d) = pounding_diagnosis(true, true);
+        d.cause = Cause::None;
+        let set = |d: &mut Diagnosis, cal: f64, val: f64| {
+            let base = d.candidates.iter_mut().find(|c| c.cause == Cause::None).unwrap();
+            (base.calibration_excess_error, base.validation_error) = (cal, val);
+        };
+        set(&mut d, 0.01, 0.097);
+        let text = warning_text(unexplained_note(&d)).expect("a contradicted baseline");
+        assert!(text.contains("0.0970") && text.contains("0.0100"), "{text}");
+        // Within the floor, within the ratio, or an extension named: no note.
+        set(&mut d, 0.001, 0.025);
+        assert_eq!(warning_text(unexplained_note(&d)), None, "below the floor");
+        set(&mut d, 0.02, 0.05);
+        assert_eq!(warning_text(unexplained_note(&d)), None, "2.5 times");
+        set(&mut d, f64::NAN, 0.2);
+        assert_eq!(warning_text(unexplained_note(&d)), None, "no calibration error");
+        set(&mut d, 0.01, 0.097);
+        d.cause = Cause::PerimeterPounding;
+        assert_eq!(warning_text(unexplained_note(&d)), None, "an extension named");
     }
 
     #[test]

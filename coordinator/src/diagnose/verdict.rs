@@ -30,6 +30,8 @@ pub struct CandidateJson {
     pub selected: bool,
     /// Mean normalised error on the calibration runs.
     pub calibration_error: f64,
+    /// The same in excess of the sensor noise (as `validation_error`).
+    pub calibration_excess_error: f64,
     /// MDL of the candidate's linear part (nats), which it must beat to be
     /// chosen; absent when it has none.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -192,6 +194,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 validation_nrmse: c.validation_nrmse,
                 selected: c.selected,
                 calibration_error: c.calibration_error,
+                calibration_excess_error: c.calibration_excess_error,
                 linear_part_mdl: c.linear_part_mdl,
                 mdl_terms: c.mdl.as_ref().map(|m| [m.fit, m.parametric, m.geometric]),
                 k: c.cause.priors().len(),
