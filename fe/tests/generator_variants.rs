@@ -162,6 +162,7 @@ fn parameter_sets_follow_the_variant() {
         "conn_force_scale",
         "conn_disp_scale",
         "conn_reload_force",
+        "conn_unload_shift",
     ]);
     assert_eq!(all, expected);
     let elastic = names(Perimeter::Friction, Connections::Elastic);
@@ -302,13 +303,26 @@ fn pinching_loop_energy(
     reload: f64,
     amp_mm: f64,
 ) -> (f64, [f64; 2]) {
+    let (e, set) = pinching_loop(spec, &[("conn_reload_force", reload)], amp_mm);
+    (e, [set.rForceP, set.rForceN])
+}
+
+/// Energy dissipated over two cycles of ±`amp_mm` (N·mm) by the first
+/// axial connection material of `spec` with parameters `set`, and its set.
+fn pinching_loop(
+    spec: &fe::generator::CeilingSpec,
+    set: &[(&str, f64)],
+    amp_mm: f64,
+) -> (f64, fe::materials::Pinching4Spec) {
     let mut p = Parameters::prior_midpoints_for(spec);
-    p.set("conn_reload_force", reload).unwrap();
+    for (name, value) in set {
+        p.set(name, *value).unwrap();
+    }
     let m = generate(spec, &p).unwrap();
     let axial = m.springs.iter().find(|s| s.group.as_deref() == Some("connection_axial")).unwrap();
     let def = m.materials.iter().find(|d| d.id == axial.mat).unwrap();
     let fe::materials::MaterialSpec::Pinching4(set) = &def.spec else { panic!("{:?}", def.spec) };
-    let r = [set.rForceP, set.rForceN];
+    let set = (**set).clone();
     let mut mat = build(&def.spec).unwrap();
     let (mut d0, mut f0, mut energy) = (0.0, 0.0, 0.0);
     for k in 1..=800 {
@@ -318,7 +332,7 @@ fn pinching_loop_energy(
         energy += 0.5 * (f + f0) * (d - d0);
         (d0, f0) = (d, f);
     }
-    (energy, r)
+    (energy, set)
 }
 
 #[test]
@@ -333,6 +347,27 @@ fn reload_force_sets_the_pinching_and_fuller_loops_dissipate_more() {
     assert!(e_seed > 0.0 && e_full > 1.4 * e_seed, "{e_seed} N mm vs {e_full} N mm");
     let mut p = Parameters::prior_midpoints_for(&spec);
     assert!(p.set("conn_reload_force", 1.0).is_err(), "rForce is a ratio below 1");
+}
+
+#[test]
+fn unload_shift_moves_the_unloading_force_from_cjs_a() {
+    let spec = specimen(2.4, 2.4, Perimeter::Linear, Connections::Pinching4);
+    let (e_seed, seed) = pinching_loop(&spec, &[], 4.0);
+    assert_eq!([seed.uForceP, seed.uForceN], [-0.01, -0.01], "Table 5.4 at the mid-point");
+    let (e_jac, jac) = pinching_loop(&spec, &[("conn_unload_shift", -0.29)], 4.0);
+    let (e_full, full) = pinching_loop(&spec, &[("conn_unload_shift", 0.11)], 4.0);
+    assert!((jac.uForceP + 0.3).abs() < 1e-12 && (full.uForceN - 0.1).abs() < 1e-12);
+    // OpenSees 3.x (openseespy testUniaxialMaterial, the same Pinching4 set
+    // and strain path): 15.8634, 2491.42 and 3419.07 N mm. A unloading force
+    // of −0.3 at 4 mm leaves almost no loop.
+    for (e, reference) in
+        [(e_jac, 15.863360103), (e_seed, 2491.423594537), (e_full, 3419.067153386)]
+    {
+        assert!((e / reference - 1.0).abs() < 1e-8, "{e} N mm vs OpenSees {reference}");
+    }
+    let mut p = Parameters::prior_midpoints_for(&spec);
+    assert!(p.set("conn_unload_shift", 1.0).is_err(), "a shift inside (-1, 1)");
+    assert!(p.set("conn_unload_shift", -0.5).is_ok());
 }
 
 #[test]

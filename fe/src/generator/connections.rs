@@ -48,6 +48,8 @@ pub const MAIN_TEE_PIECE_MM: f64 = 3600.0;
 
 /// Pinching4 rForce of the seed's CJS-A set (Table 5.4), both sides.
 pub const CJS_A_RELOAD_FORCE: f64 = 0.2;
+/// Pinching4 uForce of the seed's CJS-A set (Table 5.4), both sides.
+pub const CJS_A_UNLOAD_FORCE: f64 = -0.01;
 
 /// The seed's CJS-A Pinching4 set (Table 5.4) with forces times
 /// `force_scale` and deformations times `disp_scale`.
@@ -61,10 +63,10 @@ pub fn cjs_a(force_scale: f64, disp_scale: f64) -> Pinching4Spec {
         eNd: d([-0.5, -5.0, -12.7, -16.0]),
         rDispP: 0.6,
         rForceP: CJS_A_RELOAD_FORCE,
-        uForceP: -0.01,
+        uForceP: CJS_A_UNLOAD_FORCE,
         rDispN: 0.6,
         rForceN: CJS_A_RELOAD_FORCE,
-        uForceN: -0.01,
+        uForceN: CJS_A_UNLOAD_FORCE,
         gK: [0.0; 4],
         gKLim: 0.0,
         gD: [0.0; 4],
@@ -96,6 +98,8 @@ fn materials(spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Mats {
             );
             let reload = p.value_or_midpoint("conn_reload_force");
             (set.rForceP, set.rForceN) = (reload, reload);
+            let unload = CJS_A_UNLOAD_FORCE + p.value_or_midpoint("conn_unload_shift");
+            (set.uForceP, set.uForceN) = (unload, unload);
             MaterialSpec::Pinching4(Box::new(set))
         }
         _ => MaterialSpec::Elastic { k: p.value_or_midpoint("K_cc1") },

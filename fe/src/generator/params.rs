@@ -21,6 +21,8 @@ pub enum Domain {
     Positive,
     /// A ratio in [0, 1) (Steel01 hardening).
     Fraction,
+    /// A signed ratio in (−1, 1) (a shift of Pinching4's uForce).
+    SignedRatio,
 }
 
 /// One named parameter: unit and prior bounds (seed Table 6.1, or the
@@ -52,6 +54,7 @@ impl ParamInfo {
         match self.domain {
             Domain::Positive => value > 0.0 && value.is_finite(),
             Domain::Fraction => (0.0..1.0).contains(&value),
+            Domain::SignedRatio => value > -1.0 && value < 1.0,
         }
     }
 }
@@ -101,8 +104,12 @@ pub const PARAMETERS: [ParamInfo; 15] = [
 ///   the median of fitted specimens);
 /// - `conn_reload_force` U(0.1, 0.3): the CJS-A pinching, Pinching4 rForce on
 ///   both sides (reloading force over the force at the largest past
-///   deformation; larger: fuller loops), Table 5.4's 0.2.
-pub const EXTENSIONS: [ParamInfo; 7] = [
+///   deformation; larger: fuller loops), Table 5.4's 0.2;
+/// - `conn_unload_shift` U(−0.3, 0.3): added to Table 5.4's Pinching4
+///   uForce (−0.01) on both sides (the force left on unloading over the
+///   monotonic strength; larger: fuller loops); Table 5.5's connection
+///   kinds range from −0.3 (JAC) to −0.01.
+pub const EXTENSIONS: [ParamInfo; 8] = [
     p("friction_fy_N", "N", 0.5, 3.5, true),
     ParamInfo { domain: Domain::Fraction, ..p("friction_b", "-", 0.0, 0.1, true) },
     p("gap_ratio", "-", 0.5, 1.5, true),
@@ -110,6 +117,7 @@ pub const EXTENSIONS: [ParamInfo; 7] = [
     p("conn_force_scale", "-", 0.5, 1.5, true),
     p("conn_disp_scale", "-", 0.5, 1.5, true),
     ParamInfo { domain: Domain::Fraction, ..p("conn_reload_force", "-", 0.1, 0.3, true) },
+    ParamInfo { domain: Domain::SignedRatio, ..p("conn_unload_shift", "-", -0.3, 0.3, true) },
 ];
 
 /// Which model choice a parameter needs (for the refusal message).
@@ -124,7 +132,7 @@ fn needs(name: &str) -> &'static str {
         "gap_ratio" | "impact_factor" => {
             "it needs perimeter = \"pounding\" or \"friction-pounding\""
         }
-        "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" => {
+        "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" | "conn_unload_shift" => {
             "it needs connections = \"pinching4\""
         }
         _ => "it is a parameter of the default model",
@@ -142,7 +150,7 @@ pub fn parameters_for(spec: &CeilingSpec) -> Vec<ParamInfo> {
         "K_cc2" | "K_cc3" | "K_mc" => conn != Connections::Rigid,
         "friction_fy_N" | "friction_b" => m.perimeter.has_friction(),
         "gap_ratio" | "impact_factor" => m.perimeter.has_pounding(),
-        "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" => {
+        "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" | "conn_unload_shift" => {
             conn == Connections::Pinching4
         }
         _ => true,
@@ -245,6 +253,7 @@ impl Parameters {
             let expected = match info.domain {
                 Domain::Positive => "a finite number > 0",
                 Domain::Fraction => "a ratio in [0, 1)",
+                Domain::SignedRatio => "a ratio in (-1, 1)",
             };
             return Err(ParamError::Value { name: name.into(), value, expected });
         }
