@@ -254,7 +254,9 @@ pub fn calibrate(
     let demand = around.map(|a| a.demand);
     let priors = cause.priors();
     let fixed = base.map_or(0, <[f64]>::len);
-    let own: Vec<usize> = (fixed..priors.len()).collect();
+    let own_all: Vec<usize> = (fixed..priors.len()).collect();
+    let is_late = |i: &usize| base.is_some() && cause.late_parameters().contains(&priors[*i].name);
+    let own: Vec<usize> = own_all.iter().copied().filter(|i| !is_late(i)).collect();
     let explored: Vec<usize> =
         own.iter().copied().filter(|i| base.is_none() || priors[*i].reference.is_none()).collect();
     let d = explored.len();
@@ -308,7 +310,7 @@ pub fn calibrate(
     cal.free = own.clone();
     stage(&cal, "coarse starts");
     let Some(u) = start else { return Ok(cal) };
-    let all: Vec<usize> = (0..priors.len()).collect();
+    let all: Vec<usize> = (0..priors.len()).filter(|i| !is_late(i)).collect();
     let full = plan.full;
     let (mut u, mut gn) =
         search.levenberg_marquardt(&mut cal, Scale::Fine, u, &all, full, &mut report)?;
@@ -335,6 +337,12 @@ pub fn calibrate(
     cal.gauss_newton = gn;
     if walks > 0 {
         stage(&cal, "valley walk");
+    }
+    if own_all.len() > own.len() {
+        planned.set(planned.get() + full / 2);
+        search_late(&mut search, &mut cal, full / 2, &mut report)?;
+        cal.free = own_all;
+        stage(&cal, "late shape parameters");
     }
     Ok(cal)
 }
@@ -401,6 +409,25 @@ impl Stages {
         };
         self.rounds * budget.per_round + self.coarse_starts * (budget.local / 2) + self.full + path
     }
+}
+
+/// The last local search, over every parameter ([`Cause::late_parameters`]
+/// freed), from the best point so far with `runs` FE runs; its
+/// Gauss–Newton matrix replaces the calibration's when it has one.
+fn search_late(
+    search: &mut Search<'_, '_>,
+    cal: &mut Calibration,
+    runs: usize,
+    progress: &mut dyn FnMut(usize),
+) -> Result<(), ExecutorError> {
+    let Some(best) = cal.best(search.n_eff) else { return Ok(()) };
+    let start = cal.points[best].u.clone();
+    let every: Vec<usize> = (0..cal.priors.len()).collect();
+    let (_, gn) = search.levenberg_marquardt(cal, Scale::Fine, start, &every, runs, progress)?;
+    if gn.is_some() {
+        cal.gauss_newton = gn;
+    }
+    Ok(())
 }
 
 /// −log L at the last evaluation of point `u` (+∞ when never evaluated).
