@@ -132,7 +132,7 @@ const FRICTION: [Prior; 2] = [
 /// strength (uForce 0.1), seen through CJS-A's, were fitted with a first
 /// force half the true one, and the stronger validation run drove them past
 /// their backbone's peak (gain −8.9 on such an OpenSees campaign; 0.97 with
-/// it freed, uForce found 0.09). Explored from the start, it left a six-dimensional
+/// it freed, uForce found 0.096). Explored from the start, it left a six-dimensional
 /// design too sparse to find the valley (gain −2.3).
 const CONNECTION: [Prior; 4] = [
     Prior { name: "yield_over_demand", unit: "-", low: 0.1, high: 1.5, log: true, reference: None },
