@@ -322,29 +322,44 @@ pub fn mean_nrmse(ch: &[ChannelFit]) -> f64 {
 /// any): a channel that reads mostly noise adds the error of its noise
 /// estimate, not a model's.
 pub fn mean_excess_nrmse(ch: &[ChannelFit], noise_var: &[f64]) -> f64 {
-    let shaken = ch.iter().any(|c| c.excited);
-    let (mut sum, mut weights, mut plain, mut count) = (0.0, 0.0, 0.0, 0usize);
-    for (c, v) in ch.iter().zip(noise_var).filter(|(c, _)| c.excited || !shaken) {
-        let ms = c.rms_meas * c.rms_meas;
-        let e = super::noise_floor::excess_nrmse(c.ssr / c.n.max(1) as f64, ms, *v);
-        let w = super::noise_floor::signal_share(ms, *v);
-        (sum, weights, plain, count) = (sum + w * e, weights + w, plain + e, count + 1);
-    }
-    match count {
-        0 => f64::NAN,
-        _ if weights > 0.0 => sum / weights,
-        _ => plain / count as f64,
+    let (excess, share): (Vec<f64>, Vec<f64>) = ch
+        .iter()
+        .zip(noise_var)
+        .map(|(c, v)| {
+            let ms = c.rms_meas * c.rms_meas;
+            let mse = c.ssr / c.n.max(1) as f64;
+            (
+                super::noise_floor::excess_nrmse(mse, ms, *v),
+                super::noise_floor::signal_share(ms, *v),
+            )
+        })
+        .unzip();
+    let weighted = weighted_mean_over_shaken(ch, &excess, &share);
+    if weighted.is_nan() {
+        mean_over_shaken(ch, &excess)
+    } else {
+        weighted
     }
 }
 
 /// Mean of per-channel `values` over the shaken channels, or over all
 /// when no channel is shaken (NaN when there are none).
 fn mean_over_shaken(ch: &[ChannelFit], values: &[f64]) -> f64 {
+    weighted_mean_over_shaken(ch, values, &vec![1.0; values.len()])
+}
+
+/// [`mean_over_shaken`] with per-channel `weights` (NaN when the picked
+/// channels' weights sum to 0).
+fn weighted_mean_over_shaken(ch: &[ChannelFit], values: &[f64], weights: &[f64]) -> f64 {
     let shaken = ch.iter().any(|c| c.excited);
-    let pick: Vec<f64> =
-        ch.iter().zip(values).filter(|(c, _)| c.excited || !shaken).map(|(_, v)| *v).collect();
-    if pick.is_empty() {
-        return f64::NAN;
+    let (sum, total) = ch
+        .iter()
+        .zip(values.iter().zip(weights))
+        .filter(|(c, _)| c.excited || !shaken)
+        .fold((0.0, 0.0), |(s, t), (_, (v, w))| (s + w * v, t + w));
+    if total > 0.0 {
+        sum / total
+    } else {
+        f64::NAN
     }
-    pick.iter().sum::<f64>() / pick.len() as f64
 }
