@@ -159,6 +159,7 @@ fn parameter_sets_follow_the_variant() {
         "friction_b",
         "gap_ratio",
         "impact_factor",
+        "gap_spread",
         "conn_force_scale",
         "conn_disp_scale",
         "conn_reload_force",
@@ -550,4 +551,47 @@ fn same_as_fixture(m: Model, fixture: &str) {
     let a: Vec<_> = m.springs.iter().map(key).collect();
     let b: Vec<_> = f.springs.iter().map(key).collect();
     assert_eq!(a, b);
+}
+
+#[test]
+fn gap_spread_spreads_each_walls_gaps_about_the_gap() {
+    let spec = specimen(3.6, 2.4, Perimeter::Pounding, Connections::Rigid);
+    let at = |spread: f64| {
+        let mut p = Parameters::prior_midpoints_for(&spec);
+        p.set("gap_spread", spread).unwrap();
+        generate(&spec, &p).unwrap()
+    };
+    let gap_of = |m: &Model, s: &fe::model::Spring| match m.materials.iter().find(|d| d.id == s.mat)
+    {
+        Some(d) => match d.spec {
+            fe::materials::MaterialSpec::Gap { gap, .. } => gap,
+            _ => f64::NAN,
+        },
+        None => f64::NAN,
+    };
+    let flat = at(0.0);
+    assert_eq!(flat, generate(&spec, &Parameters::prior_midpoints_for(&spec)).unwrap());
+    let spread = at(0.3);
+    let gap = 19.0;
+    for side in ["x0", "x1", "y0", "y1"] {
+        let on_side = |m: &Model| -> Vec<f64> {
+            m.springs
+                .iter()
+                .filter(|s| s.group.as_deref() == Some("perimeter_gap"))
+                .filter(|s| s.side.as_deref() == Some(side))
+                .map(|s| gap_of(m, s))
+                .collect()
+        };
+        let (g0, g1) = (on_side(&flat), on_side(&spread));
+        assert!(!g1.is_empty() && g0.iter().all(|g| (g - gap).abs() < 1e-12), "{side}: {g0:?}");
+        let n = g1.len();
+        let q = fe::generator::perimeter::gap_offsets(n);
+        for (g, q) in g1.iter().zip(&q) {
+            assert!((g - gap * (1.0 + 0.3 * q)).abs() < 1e-9, "{side}: {g1:?}");
+        }
+        let mean = g1.iter().sum::<f64>() / n as f64;
+        assert!((mean - gap).abs() < 1e-9, "{side}: mean {mean}");
+    }
+    let e = Parameters::prior_midpoints_for(&spec).set("gap_spread", 1.0).unwrap_err();
+    assert_eq!(e.to_string(), "parameter `gap_spread` = 1: expected a ratio in (-1, 1)");
 }

@@ -13,11 +13,14 @@
 //!   seed 5.1.1: 2 N, 20 N/mm, 0.05);
 //! - `pounding`: Elastic K_friction plus the eq. 5.4 Gap with gap
 //!   `gap_ratio` × nominal gap and k `impact_factor` × 0.4 EA/L (588, 217,
-//!   433 N/mm for main, cross and sub cross tees, seed 5.1.2);
+//!   433 N/mm for main, cross and sub cross tees, seed 5.1.2); with a
+//!   `gap_spread` s ≠ 0 the ends along each wall get gaps (1 + s q) × the
+//!   gap, q from [`gap_offsets`];
 //! - `friction-pounding`: Steel01 plus the Gap (the seed's nonlinear model).
 //!
 //! Materials: 1 Elastic K_friction, 2 the restraint, then Steel01 if
-//! friction, then the three Gaps if pounding. Springs (ids from 100001, ends
+//! friction, then the three Gaps if pounding, then one Gap per other
+//! (member, gap) pair a `gap_spread` makes. Springs (ids from 100001, ends
 //! in grid-node id order as the verification models number them) per end:
 //! friction, gap, perpendicular, vertical; the wall node is i on the
 //! x = 0 / y = 0 walls and j on the far walls, so motion towards a wall is
@@ -53,6 +56,43 @@ fn materials(spec: &CeilingSpec, p: &Parameters) -> Vec<MaterialSpec> {
         mats.extend(GAP_K_N_PER_MM.map(|k| MaterialSpec::Gap { k: factor * k, gap }));
     }
     mats
+}
+
+/// Offsets q of the gaps of `n` grid ends along one wall, in wall order:
+/// evenly spaced over (−1, 1) with mean 0, tight and wide ends alternating
+/// (ranks 0, n − 1, 1, n − 2, …) so that neither half of a wall is tighter.
+pub fn gap_offsets(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|p| {
+            let rank = if p % 2 == 0 { p / 2 } else { n - 1 - p / 2 };
+            -1.0 + (2 * rank + 1) as f64 / n as f64
+        })
+        .collect()
+}
+
+/// The offset q of a grid end's gap along its wall ([`gap_offsets`]).
+fn end_offset(g: &Grid, end: &End) -> f64 {
+    let (i, j, _, _, side, _) = *end;
+    let (pos, n) = if side.starts_with('y') { (i - 1, g.nx - 1) } else { (j - 1, g.ny - 1) };
+    gap_offsets(n)[pos]
+}
+
+/// The id of the Gap material `base` with its gap times `factor`: `base`
+/// itself for 1, else an equal material already in `m` or a new one.
+fn scaled_gap(m: &mut Model, base: u64, factor: f64) -> u64 {
+    if factor == 1.0 {
+        return base;
+    }
+    let spec = match m.materials.iter().find(|d| d.id == base).map(|d| &d.spec) {
+        Some(MaterialSpec::Gap { k, gap }) => MaterialSpec::Gap { k: *k, gap: gap * factor },
+        _ => return base,
+    };
+    if let Some(d) = m.materials.iter().find(|d| d.spec == spec) {
+        return d.id;
+    }
+    let id = m.materials.iter().map(|d| d.id).max().unwrap_or(0) + 1;
+    m.materials.push(MaterialDef { id, spec });
+    id
 }
 
 /// One grid end at the wall: grid (i, j), along-axis DOF, whether the wall
@@ -106,14 +146,17 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
     let per = spec.model.perimeter;
     let friction_mat = if per.has_friction() { 3 } else { 1 };
     let first_gap = 3 + u64::from(per.has_friction());
+    let spread = if per.has_pounding() { p.value_or_midpoint("gap_spread") } else { 0.0 };
     let mut walls = vec![];
-    for (i, j, axial, wall_first, side, member) in ends(g) {
+    for end in ends(g) {
+        let (i, j, axial, wall_first, side, member) = end;
         let grid = g.id(i, j);
         let wall = 100000 + grid;
         let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, 0.0];
         walls.push(Node { id: wall, xyz_mm });
         let (a, b) = if wall_first { (wall, grid) } else { (grid, wall) };
-        let gap_mat = per.has_pounding().then(|| first_gap + member.index());
+        let factor = 1.0 + spread * end_offset(g, &end);
+        let gap_mat = per.has_pounding().then(|| scaled_gap(m, first_gap + member.index(), factor));
         let condition = spec.structure.boundary.on_side(side);
         let list = end_springs(condition, axial, friction_mat, gap_mat);
         for (dof, mat, group) in list {
@@ -131,4 +174,30 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
         }
     }
     walls
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gap_offsets;
+    use proptest::prelude::*;
+
+    #[test]
+    fn five_ends_alternate_tight_and_wide() {
+        let q = gap_offsets(5);
+        let expected = [-0.8, 0.8, -0.4, 0.4, 0.0];
+        assert!(q.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12), "{q:?}");
+    }
+
+    proptest! {
+        #[test]
+        fn offsets_are_an_even_spread_with_mean_zero(n in 1usize..40) {
+            let mut q = gap_offsets(n);
+            let mean = q.iter().sum::<f64>() / n as f64;
+            prop_assert!(mean.abs() < 1e-12);
+            q.sort_by(f64::total_cmp);
+            for (k, v) in q.iter().enumerate() {
+                prop_assert!((v - (-1.0 + (2 * k + 1) as f64 / n as f64)).abs() < 1e-12);
+            }
+        }
+    }
 }
