@@ -156,17 +156,17 @@ pub fn synthesize_with(
         .zip(&inputs)
         .map(|(r, (a, dt))| split(r.direction, *dt, a.clone(), a.clone()))
         .collect();
-    let baseline = fe_spec(&spec.structure, Cause::None.model_options())?;
+    let truth_spec = fe_spec(&spec.structure, cause.model_options())?;
+    let mut params = truth_parameters(spec, &truth_spec, cause)?;
     let mut demand = None;
     let needs_demand =
         cause.model_parameter_names().iter().any(|p| !spec.hidden.parameters.contains_key(*p));
     if cause != Cause::None && needs_demand {
         observer("baseline runs to size the hidden effect");
-        let p = truth_parameters(spec, &baseline, Cause::None)?;
+        let baseline = fe_spec(&spec.structure, Cause::None.model_options())?;
+        let p = shared_parameters(&baseline, &params)?;
         demand = Some(baseline_demand(spec, &baseline, &p, &base_inputs)?);
     }
-    let truth_spec = fe_spec(&spec.structure, cause.model_options())?;
-    let mut params = truth_parameters(spec, &truth_spec, cause)?;
     let effect = effect_values(spec, cause, demand);
     for (name, v) in &effect {
         params.set(name, *v).map_err(|e| SynthError::Parameter {
@@ -213,6 +213,22 @@ fn truth_parameters(
             continue;
         }
         p.set(name, *v).map_err(|e| SynthError::Parameter {
+            key: format!("truth.parameters.{name}"),
+            message: e.to_string(),
+        })?;
+    }
+    Ok(p)
+}
+
+/// The values of `truth` that the `baseline` variant uses, the rest at its
+/// mid-points: the baseline that sizes a hidden effect shares the
+/// specimen's properties, not the effect's own parameters (a contact
+/// stiffness, a gap spread).
+fn shared_parameters(baseline: &CeilingSpec, truth: &Parameters) -> Result<Parameters, SynthError> {
+    let mut p = Parameters::prior_midpoints_for(baseline);
+    let accepted: Vec<&str> = p.accepted().iter().map(|i| i.name).collect();
+    for (name, v) in truth.iter().filter(|(n, _)| accepted.contains(n)) {
+        p.set(name, v).map_err(|e| SynthError::Parameter {
             key: format!("truth.parameters.{name}"),
             message: e.to_string(),
         })?;

@@ -61,6 +61,26 @@ fn write(dir: &std::path::Path, text: &str) -> std::path::PathBuf {
 }
 
 #[test]
+fn an_effects_own_truth_values_do_not_reach_the_baseline_that_sizes_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let own = "[truth]\nparameters = { impact_factor = 0.8, gap_spread = 0.3 }\n";
+    let hidden = "[hidden]\neffect = \"perimeter-pounding\"\n";
+    let spec = write(tmp.path(), &format!("{SPEC}\n{own}{hidden}"));
+    let ans = synth_to_dir(&spec, &tmp.path().join("b"), &tmp.path().join("a.json"), &mut |_| {})
+        .unwrap();
+    assert_eq!((ans.parameters["impact_factor"], ans.parameters["gap_spread"]), (0.8, 0.3));
+    let plain = write(tmp.path(), &format!("{SPEC}\n{hidden}"));
+    let base = synth_to_dir(&plain, &tmp.path().join("c"), &tmp.path().join("c.json"), &mut |_| {})
+        .unwrap();
+    assert_eq!(ans.baseline_demand, base.baseline_demand);
+    // Without the effect the baseline refuses them, by key.
+    let none = write(tmp.path(), &format!("{SPEC}\n{own}"));
+    let e = synth_to_dir(&none, &tmp.path().join("d"), &tmp.path().join("d.json"), &mut |_| {})
+        .unwrap_err();
+    assert!(e.to_string().contains("truth.parameters.gap_spread"), "{e}");
+}
+
+#[test]
 fn a_campaign_reads_back_and_keeps_its_answer_outside() {
     let tmp = tempfile::tempdir().unwrap();
     let spec = write(tmp.path(), &format!("{SPEC}\n[hidden]\neffect = \"perimeter-pounding\"\n"));
