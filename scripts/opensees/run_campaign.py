@@ -33,7 +33,7 @@ there, the failure is reported, and the exit status is 1.
 NRMSE of a sensor = RMS(OpenSees - ceilfarm) / RMS(ceilfarm), over the run.
 
 --variant changes the model's form before OpenSees builds it (variants.py:
-contact-impact, gap-scatter, friction-scatter, pinching-shape, damping-shift),
+every name in its docstring, e.g. gap-scatter, friction-smooth, pinching-flag),
 the same way in every run and in the modal model; the changed model is written
 as `<run>.variant.json` beside the exported one (which is left as it is, since
 ceilfarm checks it) and simulator.json says under `variants` what each variant

@@ -29,6 +29,9 @@ Variants (units of the model file: N, mm, s, t):
   ElasticMultiLinear), so that it converges where ImpactMaterial does not.
 * gap-scatter: each gap spring's opening (Gap or Impact `gap`, both stages of
   a stiffening contact) times a factor uniform in [0.7, 1.3].
+* gap-scatter-measured: the same with the seed's measured spread (sd 1.86 mm
+  on 17.33 mm at a fixed-semi-free perimeter, 4.2.1): uniform in
+  [1 - 0.107 sqrt(3), 1 + 0.107 sqrt(3)] = [0.814, 1.186].
 * friction-scatter: each `perimeter_friction` spring of material Steel01 gets
   Fy times a factor uniform in [0.7, 1.3] and post-slip ratio b times 3.
 * friction-smooth: each Steel01 perimeter-friction spring becomes Steel02
@@ -67,6 +70,7 @@ import random
 IMPACT_K2_RATIO = 0.3
 IMPACT_DY_MM = 0.1
 GAP_SCATTER = (0.7, 1.3)
+GAP_SCATTER_MEASURED = (1.0 - 1.86 / 17.33 * math.sqrt(3.0), 1.0 + 1.86 / 17.33 * math.sqrt(3.0))
 FRICTION_FY_SCATTER = (0.7, 1.3)
 FRICTION_B_FACTOR = 3.0
 STIFFENING_FIRST = 0.25
@@ -168,20 +172,25 @@ def contact_stiffening(m, seed):
             "contact_k_at_gap_plus_0.1mm_over_k": STIFFENING_FIRST + STIFFENING_SECOND}
 
 
-def gap_scatter(m, seed):
-    """Each gap spring's opening times U[0.7, 1.3] (a stage-2 spring: its parent's factor)."""
+def gap_scatter(m, seed, name="gap-scatter", spread=GAP_SCATTER):
+    """Each gap spring's opening times U[spread] (a stage-2 spring: its parent's factor)."""
     targets = springs_of(m, lambda s, mat: mat["type"] in ("Gap", "Impact"))
     if not targets:
         return absent("Gap or Impact spring")
     fs, gaps = [], []
     for s in targets:
-        f = factor(seed, "gap-scatter", s.get("parent", s["id"]), *GAP_SCATTER)
+        f = factor(seed, name, s.get("parent", s["id"]), *spread)
         mat = own_material(m, s, materials(m)[s["mat"]])
         mat["gap"] = mat["gap"] * f
         fs.append(f)
         gaps.append(mat["gap"])
     return {"applied": True, "n_springs": len(targets), "factor": summary(fs),
             "gap_mm": summary(gaps)}
+
+
+def gap_scatter_measured(m, seed):
+    """Each gap spring's opening times U[0.814, 1.186], the seed's measured spread."""
+    return gap_scatter(m, seed, "gap-scatter-measured", GAP_SCATTER_MEASURED)
 
 
 def friction_scatter(m, seed):
@@ -337,6 +346,7 @@ VARIANTS = {
     "contact-stiffening": contact_stiffening,
     "contact-softening": contact_softening,
     "gap-scatter": gap_scatter,
+    "gap-scatter-measured": gap_scatter_measured,
     "friction-scatter": friction_scatter,
     "friction-smooth": friction_smooth,
     "pinching-shape": pinching_shape,
@@ -348,6 +358,7 @@ VARIANTS = {
 }
 # contact law first, then scatter of whatever gap material results
 ORDER = ["contact-impact", "contact-stiffening", "contact-softening", "gap-scatter",
+         "gap-scatter-measured",
          "friction-scatter", "friction-smooth", "pinching-shape", "pinching-flag",
          "mass-scatter", "member-scatter", "fine-steps", "damping-shift"]
 
@@ -406,6 +417,11 @@ def self_check():
             assert g1["k"] == 25.0 and g2["k"] == 150.0
             assert abs(g2["gap"] / g1["gap"] - 0.6 / 0.5) < 1e-12   # same factor on both stages
     assert len(s["springs"]) == 5 and rs["gap-scatter"]["n_springs"] == 4
+    g, rg = apply(m, ["gap-scatter-measured"], seed=7)
+    mats = {x["id"]: x for x in g["materials"]}
+    f = [mats[sp["mat"]]["gap"] / 0.5 for sp in g["springs"] if sp["id"] in (10, 11)]
+    assert all(0.814 < v < 1.186 for v in f) and f[0] != f[1], f
+    assert rg["gap-scatter-measured"]["applied"]
     o, ro = apply(m, ["contact-softening", "friction-smooth", "pinching-flag"], seed=7)
     mats = {x["id"]: x for x in o["materials"]}
     soft = mats[o["springs"][0]["mat"]]
