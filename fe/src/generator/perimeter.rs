@@ -62,19 +62,20 @@ fn materials(spec: &CeilingSpec, p: &Parameters) -> Vec<MaterialSpec> {
 /// evenly spaced over (−1, 1) with mean 0, tight and wide ends alternating
 /// (ranks 0, n − 1, 1, n − 2, …) so that neither half of a wall is tighter.
 pub fn gap_offsets(n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|p| {
-            let rank = if p % 2 == 0 { p / 2 } else { n - 1 - p / 2 };
-            -1.0 + (2 * rank + 1) as f64 / n as f64
-        })
-        .collect()
+    (0..n).map(|p| gap_offset(p, n)).collect()
+}
+
+/// The offset q of the end at position `p` of `n` along a wall ([`gap_offsets`]).
+fn gap_offset(p: usize, n: usize) -> f64 {
+    let rank = if p.is_multiple_of(2) { p / 2 } else { n - 1 - p / 2 };
+    -1.0 + (2 * rank + 1) as f64 / n as f64
 }
 
 /// The offset q of a grid end's gap along its wall ([`gap_offsets`]).
 fn end_offset(g: &Grid, end: &End) -> f64 {
     let (i, j, _, _, side, _) = *end;
     let (pos, n) = if side.starts_with('y') { (i - 1, g.nx - 1) } else { (j - 1, g.ny - 1) };
-    gap_offsets(n)[pos]
+    gap_offset(pos, n)
 }
 
 /// The id of the Gap material `base` with its gap times `factor`: `base`
