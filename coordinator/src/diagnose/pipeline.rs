@@ -6,7 +6,7 @@
 
 use super::calibrate::{calibrate, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
-use super::cause::Cause;
+use super::cause::{Cause, Demand, Prior};
 use super::ensemble;
 use super::evidence::pga_g;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
@@ -18,6 +18,7 @@ use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use super::posterior::{variational_posterior, VariationalPosterior};
 use super::refine::{planned_runs, refine, refine_walks};
 use crate::bundle::{Bundle, Direction, RunRole};
+use stats::gp::Gp;
 
 /// Choices of a diagnosis.
 #[derive(Debug, Clone)]
@@ -217,71 +218,14 @@ pub fn diagnose_with(
 ) -> Result<Diagnosis, DiagnoseError> {
     let (cal_runs, val_runs) = split_runs(b);
     let n_eff0 = midpoint_weights(b, &cal_runs, exec)?;
-    let stage = "calibrating none (baseline)";
-    let base =
-        calibrate(b, Cause::None, &cal_runs, &n_eff0, &opts.budget, None, exec, &mut |d, n| {
-            progress(stage, d, n)
-        })?;
-    let base_best = base
-        .best(&n_eff0)
-        .ok_or_else(|| DiagnoseError::Model("the baseline failed at every design point".into()))?;
-    let base_u = base.points[base_best].u.clone();
-    let priors = Cause::None.priors();
-    let ev = Evaluation {
-        bundle: b,
-        cause: Cause::None,
-        priors: &priors,
-        runs: &cal_runs,
-        demand: None,
-    };
-    let demand = exec.demand(&ev, &base.theta(base_best))?.map_err(DiagnoseError::Model)?;
-    let mut cals: Vec<Calibration> = vec![base];
-    let mut linear_parts: Vec<Option<Calibration>> = vec![None];
-    let boundary = b.manifest.structure.boundary;
-    let in_place = |c: &Cause| *c != Cause::None && c.has_place(boundary);
-    for c in opts.candidates.iter().copied().filter(in_place) {
-        let stage = format!("calibrating {}", c.as_str());
-        let rival = cals.iter().flat_map(|k| k.objective(&n_eff0)).fold(f64::INFINITY, f64::min);
-        let around = Around { base: &base_u, demand, rival };
-        let cal =
-            calibrate(b, c, &cal_runs, &n_eff0, &opts.budget, Some(around), exec, &mut |d, n| {
-                progress(&stage, d, n)
-            })?;
-        let stage = format!("linear part of {}", c.as_str());
-        let planned = opts.budget.local / 2;
-        let part =
-            calibrate_linear_part(b, &cal, &cal_runs, &n_eff0, &opts.budget, exec, &mut |d| {
-                progress(&stage, d, planned)
-            })?;
-        cals.push(cal);
-        linear_parts.push(part);
-    }
-    let n_eff = match &cals[0].points[base_best].fit {
-        Ok(ch) => effective_sizes(ch),
-        Err(e) => return Err(DiagnoseError::Model(e.clone())),
-    };
-    let mut results = Vec::new();
-    let mut held = Held { geometric: (0.0, 0.0), sd: vec![] };
-    for (k, (cal, part)) in cals.iter().zip(&linear_parts).enumerate() {
-        progress("validating", k, cals.len());
-        let mut r = assess(b, cal, &n_eff, (&cal_runs, &val_runs), &held, exec)?;
-        if let Some(part) = part {
-            r.linear_part_mdl = mdl(part, None, &n_eff, (0.0, 0.0)).map(|m| m.total);
-            r.fe_points += part.fe_points();
-        }
-        if k == 0 {
-            held = Held {
-                geometric: r.mdl.as_ref().map_or((0.0, 0.0), |m| (m.geometric, m.geometric_se)),
-                sd: r.estimates.iter().map(|e| e.sd_unit).collect(),
-            };
-        }
-        results.push(r);
-    }
+    let mut v = calibrate_variants(b, &cal_runs, &n_eff0, opts, exec, progress)?;
+    let n_eff = v.baseline_weights()?;
+    let runs = (&cal_runs[..], &val_runs[..]);
+    let (mut results, held) = assess_variants(b, &v, &n_eff, runs, exec, progress)?;
     excess_validation_errors(b, &val_runs, &mut results);
     let pick = select(&results, 0.0);
     if pick != 0 {
-        let named = Named { cal: &mut cals[pick], part: linear_parts[pick].as_ref() };
-        let runs = (&cal_runs[..], &val_runs[..]);
+        let named = Named { cal: &mut v.cals[pick], part: v.linear_parts[pick].as_ref() };
         if let Some(r) =
             refine_named(b, named, runs, (&n_eff0, &n_eff), &held, opts, exec, progress)?
         {
@@ -292,11 +236,149 @@ pub fn diagnose_with(
     let pick = select(&results, MISFIT_NATS);
     results[pick].selected = true;
     progress("posterior (BBVI)", 0, 1);
-    results[pick].posterior = Some(variational_posterior(&cals[pick], &n_eff, opts.budget.seed));
+    results[pick].posterior = Some(variational_posterior(&v.cals[pick], &n_eff, opts.budget.seed));
     progress("posterior (BBVI)", 1, 1);
+    Ok(conclude(b, results, pick, (cal_runs, val_runs)))
+}
+
+/// Every calibrated variant, the baseline first.
+struct Variants {
+    /// The calibrations, the baseline first.
+    cals: Vec<Calibration>,
+    /// Each one's linear part ([`Cause::linear_part`]; None for the
+    /// baseline and for a variant without one).
+    linear_parts: Vec<Option<Calibration>>,
+    /// The baseline's best design point (under the mid-point weights).
+    base_best: usize,
+}
+
+impl Variants {
+    /// Channel weights from the baseline at its best design point.
+    fn baseline_weights(&self) -> Result<Vec<f64>, DiagnoseError> {
+        match &self.cals[0].points[self.base_best].fit {
+            Ok(ch) => Ok(effective_sizes(ch)),
+            Err(e) => Err(DiagnoseError::Model(e.clone())),
+        }
+    }
+}
+
+/// Calibrates the baseline on `cal_runs` under weights `n_eff0`, then each
+/// candidate extension that has a place on the bundle's boundary around it,
+/// followed by that extension's linear part.
+fn calibrate_variants(
+    b: &Bundle,
+    cal_runs: &[usize],
+    n_eff0: &[f64],
+    opts: &DiagnoseOptions,
+    exec: &mut dyn FeExecutor,
+    progress: &mut dyn FnMut(&str, usize, usize),
+) -> Result<Variants, DiagnoseError> {
+    let (base, base_best) = calibrate_baseline(b, cal_runs, n_eff0, opts, exec, progress)?;
+    let base_u = base.points[base_best].u.clone();
+    let demand = baseline_demand(b, &base, base_best, cal_runs, exec)?;
+    let mut v = Variants { cals: vec![base], linear_parts: vec![None], base_best };
+    let boundary = b.manifest.structure.boundary;
+    let in_place = |c: &Cause| *c != Cause::None && c.has_place(boundary);
+    for c in opts.candidates.iter().copied().filter(in_place) {
+        let stage = format!("calibrating {}", c.as_str());
+        let rival = v.cals.iter().flat_map(|k| k.objective(n_eff0)).fold(f64::INFINITY, f64::min);
+        let around = Around { base: &base_u, demand, rival };
+        let cal =
+            calibrate(b, c, cal_runs, n_eff0, &opts.budget, Some(around), exec, &mut |d, n| {
+                progress(&stage, d, n)
+            })?;
+        let stage = format!("linear part of {}", c.as_str());
+        let planned = opts.budget.local / 2;
+        let part =
+            calibrate_linear_part(b, &cal, cal_runs, n_eff0, &opts.budget, exec, &mut |d| {
+                progress(&stage, d, planned)
+            })?;
+        v.cals.push(cal);
+        v.linear_parts.push(part);
+    }
+    Ok(v)
+}
+
+/// The baseline calibrated on `cal_runs` under weights `n_eff0`, and its
+/// best design point; an error when it failed at every point.
+fn calibrate_baseline(
+    b: &Bundle,
+    cal_runs: &[usize],
+    n_eff0: &[f64],
+    opts: &DiagnoseOptions,
+    exec: &mut dyn FeExecutor,
+    progress: &mut dyn FnMut(&str, usize, usize),
+) -> Result<(Calibration, usize), DiagnoseError> {
+    let stage = "calibrating none (baseline)";
+    let base =
+        calibrate(b, Cause::None, cal_runs, n_eff0, &opts.budget, None, exec, &mut |d, n| {
+            progress(stage, d, n)
+        })?;
+    let base_best = base
+        .best(n_eff0)
+        .ok_or_else(|| DiagnoseError::Model("the baseline failed at every design point".into()))?;
+    Ok((base, base_best))
+}
+
+/// The demand of the calibration runs on the baseline at its design point
+/// `best`, which scales the extensions' parameters ([`Around::demand`]).
+fn baseline_demand(
+    b: &Bundle,
+    base: &Calibration,
+    best: usize,
+    cal_runs: &[usize],
+    exec: &mut dyn FeExecutor,
+) -> Result<Demand, DiagnoseError> {
+    let priors = Cause::None.priors();
+    let ev =
+        Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs: cal_runs, demand: None };
+    exec.demand(&ev, &base.theta(best))?.map_err(DiagnoseError::Model)
+}
+
+/// Assesses each variant in turn under weights `n_eff`, the baseline first
+/// and each extension with what the baseline holds for it; returns the
+/// results and that hold.
+fn assess_variants(
+    b: &Bundle,
+    v: &Variants,
+    n_eff: &[f64],
+    runs: (&[usize], &[usize]),
+    exec: &mut dyn FeExecutor,
+    progress: &mut dyn FnMut(&str, usize, usize),
+) -> Result<(Vec<CandidateResult>, Held), DiagnoseError> {
+    let mut results = Vec::new();
+    let mut held = Held { geometric: (0.0, 0.0), sd: vec![] };
+    for (k, (cal, part)) in v.cals.iter().zip(&v.linear_parts).enumerate() {
+        progress("validating", k, v.cals.len());
+        let mut r = assess(b, cal, n_eff, runs, &held, exec)?;
+        add_linear_part(&mut r, part.as_ref(), n_eff);
+        if k == 0 {
+            held = Held::from_baseline(&r);
+        }
+        results.push(r);
+    }
+    Ok((results, held))
+}
+
+/// Adds the linear part's MDL (weights `n_eff`) and FE points to `r`.
+fn add_linear_part(r: &mut CandidateResult, part: Option<&Calibration>, n_eff: &[f64]) {
+    if let Some(part) = part {
+        r.linear_part_mdl = mdl(part, None, n_eff, (0.0, 0.0)).map(|m| m.total);
+        r.fe_points += part.fe_points();
+    }
+}
+
+/// The diagnosis naming `results[pick]`, its gain over the baseline on the
+/// validation runs (0 when the baseline is named).
+fn conclude(
+    b: &Bundle,
+    results: Vec<CandidateResult>,
+    pick: usize,
+    (cal_runs, val_runs): (Vec<usize>, Vec<usize>),
+) -> Diagnosis {
     let base = results[0].validation_error;
     let ext = results[pick].validation_error;
-    Ok(Diagnosis {
+    Diagnosis {
         bundle: b.manifest.name.clone(),
         cause: results[pick].cause,
         fe_points: results.iter().map(|r| r.fe_points).sum::<usize>() + 1,
@@ -306,7 +388,7 @@ pub fn diagnose_with(
         baseline_validation_error: base,
         extended_validation_error: ext,
         gain: if pick == 0 { 0.0 } else { 1.0 - ext / base },
-    })
+    }
 }
 
 /// The extension a diagnosis names, with its linear part.
@@ -344,10 +426,7 @@ fn refine_named(
         return Ok(None);
     }
     let mut r = assess(b, cal, n_eff, (cal_runs, val_runs), held, exec)?;
-    if let Some(part) = part {
-        r.linear_part_mdl = mdl(part, None, n_eff, (0.0, 0.0)).map(|m| m.total);
-        r.fe_points += part.fe_points();
-    }
+    add_linear_part(&mut r, part, n_eff);
     Ok(Some(r))
 }
 
@@ -453,12 +532,23 @@ struct Held {
     sd: Vec<f64>,
 }
 
+impl Held {
+    /// What the baseline's assessment `r` holds: its geometric MDL term with
+    /// that term's standard error, and its estimates' spreads (unit cube).
+    fn from_baseline(r: &CandidateResult) -> Self {
+        Held {
+            geometric: r.mdl.as_ref().map_or((0.0, 0.0), |m| (m.geometric, m.geometric_se)),
+            sd: r.estimates.iter().map(|e| e.sd_unit).collect(),
+        }
+    }
+}
+
 /// MDL, estimates and validation error of one calibrated variant.
 fn assess(
     b: &Bundle,
     cal: &Calibration,
     n_eff: &[f64],
-    (cal_runs, val_runs): (&[usize], &[usize]),
+    runs: (&[usize], &[usize]),
     held: &Held,
     exec: &mut dyn FeExecutor,
 ) -> Result<CandidateResult, ExecutorError> {
@@ -472,20 +562,38 @@ fn assess(
     };
     let Some(best) = cal.best(n_eff) else { return Ok(out) };
     let u = &cal.points[best].u;
+    let sd = estimate_sd(cal, gp.as_ref(), u, held);
+    out.estimates = estimates(&cal.priors, u, &sd);
+    if let Ok(ch) = &cal.points[best].fit {
+        out.calibration_error = mean_nrmse(ch);
+        let own: Vec<f64> = ch.iter().map(|c| c.noise_var).collect();
+        out.calibration_excess_error = mean_excess_nrmse(ch, &own);
+    }
+    simulate_estimate(b, cal, best, runs, exec, &mut out)?;
+    Ok(out)
+}
+
+/// Spreads (unit cube) of the estimate `u` of `cal`: from its Gauss-Newton
+/// Hessian when it has one, else the baseline's spreads for the parameters
+/// it held followed by the Laplace spreads of its free ones on the emulator
+/// `gp` (NaN without one).
+fn estimate_sd(cal: &Calibration, gp: Option<&Gp>, u: &[f64], held: &Held) -> Vec<f64> {
     let free_u: Vec<f64> = cal.free.iter().map(|i| u[*i]).collect();
-    let free_sd = gp
-        .as_ref()
-        .and_then(|g| laplace_sd(g, &free_u))
-        .unwrap_or_else(|| vec![f64::NAN; free_u.len()]);
-    let sd: Vec<f64> = match &cal.gauss_newton {
+    let free_sd =
+        gp.and_then(|g| laplace_sd(g, &free_u)).unwrap_or_else(|| vec![f64::NAN; free_u.len()]);
+    match &cal.gauss_newton {
         Some(h) => gn_sd(h),
         None => held.sd.iter().take(u.len() - free_u.len()).copied().chain(free_sd).collect(),
-    };
-    out.estimates = cal
-        .priors
+    }
+}
+
+/// The estimates at unit-cube point `u` with spreads `sd`, each interval
+/// u ± sd clipped to the cube and mapped through its prior.
+fn estimates(priors: &[Prior], u: &[f64], sd: &[f64]) -> Vec<Estimate> {
+    priors
         .iter()
         .zip(u)
-        .zip(&sd)
+        .zip(sd)
         .map(|((p, u), s)| Estimate {
             name: p.name.into(),
             unit: p.unit.into(),
@@ -493,12 +601,21 @@ fn assess(
             sd_unit: *s,
             interval: (p.at((u - s).max(0.0)), p.at((u + s).min(1.0))),
         })
-        .collect();
-    if let Ok(ch) = &cal.points[best].fit {
-        out.calibration_error = mean_nrmse(ch);
-        let own: Vec<f64> = ch.iter().map(|c| c.noise_var).collect();
-        out.calibration_excess_error = mean_excess_nrmse(ch, &own);
-    }
+        .collect()
+}
+
+/// Simulates `cal` at its design point `best` into `out`: the validation
+/// runs as its ensemble predicts them ([`predict`]), then the calibration
+/// runs at the point itself (the prediction again when the runs are the
+/// same).
+fn simulate_estimate(
+    b: &Bundle,
+    cal: &Calibration,
+    best: usize,
+    (cal_runs, val_runs): (&[usize], &[usize]),
+    exec: &mut dyn FeExecutor,
+    out: &mut CandidateResult,
+) -> Result<(), ExecutorError> {
     let ev = Evaluation {
         bundle: b,
         cause: cal.cause,
@@ -506,7 +623,7 @@ fn assess(
         runs: val_runs,
         demand: cal.demand,
     };
-    let (sims, members) = predict(&ev, cal, u, exec)?;
+    let (sims, members) = predict(&ev, cal, &cal.points[best].u, exec)?;
     out.prediction_members = members;
     if let Some(sims) = sims {
         out.validation_nrmse = mean_nrmse(&ev.validation_channels(&sims));
@@ -518,7 +635,7 @@ fn assess(
         let ev = Evaluation { runs: cal_runs, ..ev };
         one(exec.simulate(&ev, &[cal.theta(best)])?).unwrap_or_default()
     };
-    Ok(out)
+    Ok(())
 }
 
 /// The prediction of `ev`'s runs by the variant calibrated in `cal` with
