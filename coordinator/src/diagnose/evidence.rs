@@ -452,6 +452,16 @@ fn spike_corner_hz(points: &[FrequencyPoint], focus: Option<&RunView>) -> f64 {
 
 type Kernel<'a> = Box<dyn Fn(&RunView, Source) -> Result<f64, String> + 'a>;
 
+/// A symptom computed run by run: its names and the kernel giving its number.
+struct RunKernel<'a> {
+    key: &'static str,
+    short: &'static str,
+    name: &'static str,
+    unit: &'static str,
+    points_to: &'static str,
+    f: Kernel<'a>,
+}
+
 /// The symptoms computed run by run.
 fn per_run_symptoms(
     ctx: &Context,
@@ -459,105 +469,145 @@ fn per_run_symptoms(
     focus: Option<&RunView>,
     fc_hz: f64,
 ) -> Vec<Symptom> {
-    let gap = ctx.b.manifest.structure.nominal_gap_mm;
-    let both = move |v: &RunView, s: Source| -> Result<(Vec<f64>, Vec<f64>), String> {
-        let a = v.channel(s, ctx.accel()?)?;
-        let d = v.channel(s, ctx.disp()?)?;
-        Ok((a, d))
+    per_run_kernels(ctx, fc_hz).into_iter().map(|k| run_symptom(k, runs, focus)).collect()
+}
+
+/// The run-by-run kernels in table order; the spike share high-passes at `fc_hz`.
+fn per_run_kernels<'a>(ctx: &'a Context, fc_hz: f64) -> Vec<RunKernel<'a>> {
+    vec![
+        RunKernel {
+            key: "spike_share",
+            short: "spike share",
+            name: "high-frequency share of acceleration at displacement peaks",
+            unit: "-",
+            points_to: "measured far above the model: impacts at the displacement peaks (pounding)",
+            f: Box::new(move |v, s| spike_share_of(ctx, v, s, fc_hz)),
+        },
+        RunKernel {
+            key: "peak_over_gap",
+            short: "peak displacement / gap",
+            name: "largest displacement / nominal gap",
+            unit: "-",
+            points_to: "near 1 in the measurement while the model goes beyond: the gap closes \
+                        and stops the grid",
+            f: Box::new(move |v, s| peak_over_gap_of(ctx, v, s)),
+        },
+        RunKernel {
+            key: "plateau_saturation",
+            short: "plateau saturation",
+            name: "share of large half-cycles peaking within 10 % of the largest",
+            unit: "-",
+            points_to: "higher than the model: cycle peaks pile up at a stop (contact at the gap)",
+            f: Box::new(move |v, s| plateau_saturation_of(ctx, v, s)),
+        },
+        RunKernel {
+            key: "residual_drift_mm",
+            short: "residual drift",
+            name: "residual drift: mean of the last 10 % − mean of the first 10 %",
+            unit: "mm",
+            points_to: "a permanent offset the model lacks: slip at the perimeter (friction)",
+            f: Box::new(move |v, s| residual_drift_of(ctx, v, s)),
+        },
+        RunKernel {
+            key: "loop_damping_ratio",
+            short: "loop damping ratio ζ_eq",
+            name: "equivalent damping ratio of the hysteresis loops (cycles ≥ 50 % of the largest)",
+            unit: "-",
+            points_to: "above the model, growing with amplitude: energy lost to friction or \
+                        hysteretic connections",
+            f: Box::new(move |v, s| loop_damping_of(ctx, v, s)),
+        },
+        RunKernel {
+            key: "half_power_damping_ratio",
+            short: "half-power damping ratio",
+            name: "damping ratio from the half-power bandwidth of the input→accelerometer transfer",
+            unit: "-",
+            points_to: "wider than the model: amplitude-dependent damping or a smeared resonance \
+                        (nonlinearity)",
+            f: Box::new(move |v, s| half_power_damping_of(ctx, v, s)),
+        },
+    ]
+}
+
+/// A run-by-run symptom: its kernel on every run and, for the table, on the focus run.
+fn run_symptom(k: RunKernel, runs: &[&RunView], focus: Option<&RunView>) -> Symptom {
+    let RunKernel { key, short, name, unit, points_to, f } = k;
+    let per_run: Vec<(String, [f64; 3])> = runs
+        .iter()
+        .map(|v| (v.data.id.clone(), SOURCES.map(|s| f(v, s).unwrap_or(f64::NAN))))
+        .collect();
+    let readings = match focus {
+        Some(v) => SOURCES.map(|s| match f(v, s) {
+            Ok(x) if x.is_finite() => Reading::Value(x),
+            Ok(x) => Reading::NotComputable(format!("not finite ({x})")),
+            Err(e) => Reading::NotComputable(e),
+        }),
+        None => no_focus(),
     };
-    let disp = move |v: &RunView, s: Source| v.channel(s, ctx.disp()?);
-    let no_gap = || "the bundle gives no nominal gap".to_string();
-    let kernels: Vec<(&str, &str, &str, &str, &str, Kernel)> = vec![
-        (
-            "spike_share",
-            "spike share",
-            "high-frequency share of acceleration at displacement peaks",
-            "-",
-            "measured far above the model: impacts at the displacement peaks (pounding)",
-            Box::new(move |v, s| {
-                let (a, d) = both(v, s)?;
-                spike_share(&a, &d, v.data.dt_s, fc_hz.min(0.4 / v.data.dt_s))
-                    .ok_or_else(|| format!("run {}: no displacement peaks", v.data.id))
-            }),
-        ),
-        (
-            "peak_over_gap",
-            "peak displacement / gap",
-            "largest displacement / nominal gap",
-            "-",
-            "near 1 in the measurement while the model goes beyond: the gap closes and stops the grid",
-            Box::new(move |v, s| {
-                let g = gap.ok_or_else(no_gap)?;
-                plateau(&disp(v, s)?, g).map(|p| p.peak_over_gap).ok_or_else(|| format!("run {}: no displacement", v.data.id))
-            }),
-        ),
-        (
-            "plateau_saturation",
-            "plateau saturation",
-            "share of large half-cycles peaking within 10 % of the largest",
-            "-",
-            "higher than the model: cycle peaks pile up at a stop (contact at the gap)",
-            Box::new(move |v, s| {
-                let g = gap.ok_or_else(no_gap)?;
-                plateau(&disp(v, s)?, g).map(|p| p.saturation).ok_or_else(|| format!("run {}: no displacement", v.data.id))
-            }),
-        ),
-        (
-            "residual_drift_mm",
-            "residual drift",
-            "residual drift: mean of the last 10 % − mean of the first 10 %",
-            "mm",
-            "a permanent offset the model lacks: slip at the perimeter (friction)",
-            Box::new(move |v, s| {
-                residual_drift(&disp(v, s)?, 0.1).ok_or_else(|| format!("run {}: too short", v.data.id))
-            }),
-        ),
-        (
-            "loop_damping_ratio",
-            "loop damping ratio ζ_eq",
-            "equivalent damping ratio of the hysteresis loops (cycles ≥ 50 % of the largest)",
-            "-",
-            "above the model, growing with amplitude: energy lost to friction or hysteretic connections",
-            Box::new(move |v, s| {
-                let (a, d) = both(v, s)?;
-                let f: Vec<f64> = a.iter().map(|x| -x).collect();
-                let u: Vec<f64> = d.iter().map(|x| x / 1000.0).collect();
-                loop_damping(&f, &u, 0.5)
-                    .map(|l| l.zeta_eq)
-                    .ok_or_else(|| format!("run {}: no complete displacement cycle", v.data.id))
-            }),
-        ),
-        (
-            "half_power_damping_ratio",
-            "half-power damping ratio",
-            "damping ratio from the half-power bandwidth of the input→accelerometer transfer",
-            "-",
-            "wider than the model: amplitude-dependent damping or a smeared resonance (nonlinearity)",
-            Box::new(move |v, s| {
-                apparent_freq(ctx, v, s)?.1.ok_or_else(|| {
-                    format!("run {}: half-power points out of band or under 3 bins apart", v.data.id)
-                })
-            }),
-        ),
-    ];
-    kernels
-        .into_iter()
-        .map(|(key, short, name, unit, points_to, f)| {
-            let per_run: Vec<(String, [f64; 3])> = runs
-                .iter()
-                .map(|v| (v.data.id.clone(), SOURCES.map(|s| f(v, s).unwrap_or(f64::NAN))))
-                .collect();
-            let readings = match focus {
-                Some(v) => SOURCES.map(|s| match f(v, s) {
-                    Ok(x) if x.is_finite() => Reading::Value(x),
-                    Ok(x) => Reading::NotComputable(format!("not finite ({x})")),
-                    Err(e) => Reading::NotComputable(e),
-                }),
-                None => no_focus(),
-            };
-            Symptom { key, name, short, unit, points_to, readings, per_run }
-        })
-        .collect()
+    Symptom { key, name, short, unit, points_to, readings, per_run }
+}
+
+/// Acceleration (m/s²) and displacement (mm) of one source of a run at the sensors used.
+fn accel_and_disp(ctx: &Context, v: &RunView, s: Source) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let a = v.channel(s, ctx.accel()?)?;
+    let d = v.channel(s, ctx.disp()?)?;
+    Ok((a, d))
+}
+
+/// Displacement (mm) of one source of a run at the displacement sensor used.
+fn disp_of(ctx: &Context, v: &RunView, s: Source) -> Result<Vec<f64>, String> {
+    v.channel(s, ctx.disp()?)
+}
+
+/// The bundle's nominal gap (mm), or why there is none.
+fn nominal_gap(ctx: &Context) -> Result<f64, String> {
+    let gap = ctx.b.manifest.structure.nominal_gap_mm;
+    gap.ok_or_else(|| "the bundle gives no nominal gap".to_string())
+}
+
+/// Spike share of a run, high-passed at `fc_hz` (at most 0.4 × its sampling rate).
+fn spike_share_of(ctx: &Context, v: &RunView, s: Source, fc_hz: f64) -> Result<f64, String> {
+    let (a, d) = accel_and_disp(ctx, v, s)?;
+    spike_share(&a, &d, v.data.dt_s, fc_hz.min(0.4 / v.data.dt_s))
+        .ok_or_else(|| format!("run {}: no displacement peaks", v.data.id))
+}
+
+/// Largest displacement of a run over the nominal gap.
+fn peak_over_gap_of(ctx: &Context, v: &RunView, s: Source) -> Result<f64, String> {
+    let g = nominal_gap(ctx)?;
+    plateau(&disp_of(ctx, v, s)?, g)
+        .map(|p| p.peak_over_gap)
+        .ok_or_else(|| format!("run {}: no displacement", v.data.id))
+}
+
+/// Share of a run's large half-cycles peaking near the largest.
+fn plateau_saturation_of(ctx: &Context, v: &RunView, s: Source) -> Result<f64, String> {
+    let g = nominal_gap(ctx)?;
+    plateau(&disp_of(ctx, v, s)?, g)
+        .map(|p| p.saturation)
+        .ok_or_else(|| format!("run {}: no displacement", v.data.id))
+}
+
+/// Residual drift of a run's displacement (mm), over its first and last 10 %.
+fn residual_drift_of(ctx: &Context, v: &RunView, s: Source) -> Result<f64, String> {
+    residual_drift(&disp_of(ctx, v, s)?, 0.1).ok_or_else(|| format!("run {}: too short", v.data.id))
+}
+
+/// Equivalent damping ratio of a run's loops of −acceleration against displacement (m).
+fn loop_damping_of(ctx: &Context, v: &RunView, s: Source) -> Result<f64, String> {
+    let (a, d) = accel_and_disp(ctx, v, s)?;
+    let f: Vec<f64> = a.iter().map(|x| -x).collect();
+    let u: Vec<f64> = d.iter().map(|x| x / 1000.0).collect();
+    loop_damping(&f, &u, 0.5)
+        .map(|l| l.zeta_eq)
+        .ok_or_else(|| format!("run {}: no complete displacement cycle", v.data.id))
+}
+
+/// Half-power damping ratio of a run's input→accelerometer transfer.
+fn half_power_damping_of(ctx: &Context, v: &RunView, s: Source) -> Result<f64, String> {
+    apparent_freq(ctx, v, s)?.1.ok_or_else(|| {
+        format!("run {}: half-power points out of band or under 3 bins apart", v.data.id)
+    })
 }
 
 /// Loop damping of the strongest simulated run over that of the weakest.

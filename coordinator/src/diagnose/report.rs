@@ -8,13 +8,13 @@
 use super::cause::Cause;
 use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated};
-use super::pipeline::{Diagnosis, LINEAR_PART_NATS, MISFIT_NATS, TIE_NATS};
+use super::pipeline::{CandidateResult, Diagnosis, LINEAR_PART_NATS, MISFIT_NATS, TIE_NATS};
 use super::reach::validation_reach;
 use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
 use super::resample::Decimated;
 use super::symptoms::{half_cycle_peaks, rms};
-use crate::bundle::{Bundle, SensorKind};
+use crate::bundle::{Bundle, RunData, SensorKind};
 use crate::report::{
     bar_chart, line_plot, plan_svg, BarChart, BarGroup, Block, LinePlot, NoteKind, Page,
     PlanSensor, PlotSize, Section, Series, SeriesStyle, Table,
@@ -241,14 +241,36 @@ fn run_rates(b: &Bundle, resampled: &[Decimated]) -> String {
     b.runs.iter().map(rate).collect::<Vec<_>>().join(", ")
 }
 
+/// The model comparison: the MDL table, the error chart and the notes on the choice.
 fn comparison_section(d: &Diagnosis) -> Section {
+    let rows = comparison_rows(d);
+    let highlight = d.candidates.iter().position(|c| c.selected);
+    let chart = error_chart(d, highlight);
+    Section {
+        id: "models".into(),
+        heading: "Model comparison (MDL)".into(),
+        blocks: vec![
+            Block::Table(mdl_table(rows, highlight)),
+            Block::figure(
+                "Errors of each calibrated model on the calibration and validation runs.",
+                chart,
+            ),
+        ]
+        .into_iter()
+        .chain(linear_part_notes(d))
+        .chain(misfit_note(d))
+        .collect(),
+    }
+}
+
+/// One row per candidate: its MDL terms and ΔMDL (nats), its errors and its FE points.
+fn comparison_rows(d: &Diagnosis) -> Vec<Vec<String>> {
     let best = d
         .candidates
         .iter()
         .filter_map(|c| c.mdl.as_ref().map(|m| m.total))
         .fold(f64::INFINITY, f64::min);
-    let rows: Vec<Vec<String>> = d
-        .candidates
+    d.candidates
         .iter()
         .map(|c| {
             let m = c.mdl.as_ref();
@@ -266,9 +288,40 @@ fn comparison_section(d: &Diagnosis) -> Section {
                 format!("{} ({} failed)", c.fe_points, c.failed_points),
             ]
         })
-        .collect();
-    let highlight = d.candidates.iter().position(|c| c.selected);
-    let chart = bar_chart(&BarChart {
+        .collect()
+}
+
+/// The MDL table of [`comparison_rows`], the chosen model's row highlighted.
+fn mdl_table(rows: Vec<Vec<String>>, highlight: Option<usize>) -> Table {
+    Table {
+        caption: "MDL = −log f(x|θ̂) + k/2 log(N/2π) + log ∫√det I(θ) dθ (nats); lowest wins."
+            .into(),
+        header: [
+            "model",
+            "k",
+            "−log f",
+            "k/2 log(N/2π)",
+            "geometric",
+            "MDL",
+            "ΔMDL",
+            "cal. NRMSE",
+            "val. NRMSE",
+            "val. error over noise",
+            "FE points",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+        highlight_row: highlight,
+    }
+}
+
+/// Bar chart of each candidate's calibration and validation errors (SVG).
+fn error_chart(
+    d: &Diagnosis,
+    highlight: Option<usize>,
+) -> Result<String, crate::report::ReportError> {
+    bar_chart(&BarChart {
         title: "Normalised error by model".into(),
         x_label: "model".into(),
         y_label: "mean normalised RMS error (-)".into(),
@@ -289,43 +342,7 @@ fn comparison_section(d: &Diagnosis) -> Section {
         ],
         highlight,
         size: PlotSize::default(),
-    });
-    Section {
-        id: "models".into(),
-        heading: "Model comparison (MDL)".into(),
-        blocks: vec![
-            Block::Table(Table {
-                caption:
-                    "MDL = −log f(x|θ̂) + k/2 log(N/2π) + log ∫√det I(θ) dθ (nats); lowest wins."
-                        .into(),
-                header: [
-                    "model",
-                    "k",
-                    "−log f",
-                    "k/2 log(N/2π)",
-                    "geometric",
-                    "MDL",
-                    "ΔMDL",
-                    "cal. NRMSE",
-                    "val. NRMSE",
-                    "val. error over noise",
-                    "FE points",
-                ]
-                .map(String::from)
-                .to_vec(),
-                rows,
-                highlight_row: highlight,
-            }),
-            Block::figure(
-                "Errors of each calibrated model on the calibration and validation runs.",
-                chart,
-            ),
-        ]
-        .into_iter()
-        .chain(linear_part_notes(d))
-        .chain(misfit_note(d))
-        .collect(),
-    }
+    })
 }
 
 /// A note per extension with a linear part: its MDL, and whether the
@@ -451,79 +468,13 @@ fn telling_channels(b: &Bundle, d: &Diagnosis) -> Vec<(usize, String)> {
     out
 }
 
+/// Measured vs baseline vs extended histories at the telling sensors.
 fn histories_section(b: &Bundle, d: &Diagnosis, telling: &[(usize, String)]) -> Section {
     let base = &d.candidates[0];
     let chosen = d.candidates.iter().find(|c| c.selected).unwrap_or(base);
     let mut blocks = Vec::new();
     for (run, id) in telling {
-        let k = d.validation_runs.iter().position(|r| r == run).unwrap_or(0);
-        let data = &b.runs[*run];
-        let Some(meas) = data.sensor(id) else { continue };
-        let sensor = b.manifest.sensors.iter().find(|s| &s.id == id);
-        let unit = match sensor.map(|s| s.kind) {
-            Some(SensorKind::Displacement) => "displacement (mm)",
-            _ => "acceleration (m/s²)",
-        };
-        let off = pre_event_offset(meas, data.dt_s);
-        let t: Vec<f64> = (0..meas.len()).map(|i| data.t0_s + i as f64 * data.dt_s).collect();
-        let pick = |sims: &[Simulated]| {
-            sims.get(k).and_then(|s| s.iter().find(|(s, _)| s == id)).map(|(_, v)| v.clone())
-        };
-        let mut series = vec![Series {
-            name: "measured".into(),
-            x: t.clone(),
-            y: meas.iter().map(|v| v - off).collect(),
-            style: SeriesStyle::Solid,
-        }];
-        if let Some(v) = pick(&base.validation_sims) {
-            series.push(Series {
-                name: "baseline".into(),
-                x: t.clone(),
-                y: v,
-                style: SeriesStyle::Dashed,
-            });
-        }
-        if chosen.cause != base.cause {
-            if let Some(v) = pick(&chosen.validation_sims) {
-                series.push(Series {
-                    name: format!("extended ({})", chosen.cause.as_str()),
-                    x: t.clone(),
-                    y: v,
-                    style: SeriesStyle::Solid,
-                });
-            }
-        }
-        let peaks = |y: &[f64]| half_cycle_peaks(y).into_iter().fold(0.0f64, f64::max);
-        let stats: Vec<String> = series
-            .iter()
-            .map(|s| format!("{} peak {:.3}, RMS {:.3}", s.name, peaks(&s.y), rms(&s.y)))
-            .collect();
-        let series_copy = series.clone();
-        let plot = line_plot(&LinePlot {
-            title: format!("run {}, sensor {id}", data.id),
-            x_label: "time (s)".into(),
-            y_label: unit.into(),
-            series,
-            log_x: false,
-            log_y: false,
-            size: PlotSize::default(),
-        });
-        blocks.push(Block::figure(
-            &format!("Validation run {}, sensor {id}: measured vs models.", data.id),
-            plot,
-        ));
-        if let Some(zoom) = zoomed(
-            &series_copy,
-            data.dt_s,
-            &format!("run {}, sensor {id}, around the measured peak", data.id),
-            unit,
-        ) {
-            blocks.push(Block::figure(
-                &format!("The same, 3 s around the measured peak of {id}."),
-                zoom,
-            ));
-        }
-        blocks.push(Block::Paragraph(stats.join("; ")));
+        blocks.extend(history_blocks(b, d, base, chosen, *run, id));
     }
     if blocks.is_empty() {
         blocks.push(Block::Note {
@@ -536,6 +487,109 @@ fn histories_section(b: &Bundle, d: &Diagnosis, telling: &[(usize, String)]) -> 
         heading: "Time histories at the telling sensors".into(),
         blocks,
     }
+}
+
+/// The plot, the zoom on the measured peak and the peaks and RMS of validation
+/// run `run` at sensor `id`; nothing if the run did not record the sensor.
+fn history_blocks(
+    b: &Bundle,
+    d: &Diagnosis,
+    base: &CandidateResult,
+    chosen: &CandidateResult,
+    run: usize,
+    id: &str,
+) -> Vec<Block> {
+    let k = d.validation_runs.iter().position(|r| *r == run).unwrap_or(0);
+    let data = &b.runs[run];
+    let Some(meas) = data.sensor(id) else { return vec![] };
+    let unit = history_unit(b, id);
+    let series = history_series(data, meas, k, id, base, chosen);
+    let stats = peak_rms_stats(&series);
+    let plot = line_plot(&LinePlot {
+        title: format!("run {}, sensor {id}", data.id),
+        x_label: "time (s)".into(),
+        y_label: unit.into(),
+        series: series.clone(),
+        log_x: false,
+        log_y: false,
+        size: PlotSize::default(),
+    });
+    let mut blocks = vec![Block::figure(
+        &format!("Validation run {}, sensor {id}: measured vs models.", data.id),
+        plot,
+    )];
+    if let Some(zoom) = zoomed(
+        &series,
+        data.dt_s,
+        &format!("run {}, sensor {id}, around the measured peak", data.id),
+        unit,
+    ) {
+        blocks
+            .push(Block::figure(&format!("The same, 3 s around the measured peak of {id}."), zoom));
+    }
+    blocks.push(Block::Paragraph(stats));
+    blocks
+}
+
+/// The y-axis label of sensor `id`'s histories: displacement or acceleration.
+fn history_unit(b: &Bundle, id: &str) -> &'static str {
+    let sensor = b.manifest.sensors.iter().find(|s| s.id == id);
+    match sensor.map(|s| s.kind) {
+        Some(SensorKind::Displacement) => "displacement (mm)",
+        _ => "acceleration (m/s²)",
+    }
+}
+
+/// The measured history `meas` (offset-corrected) of validation run number
+/// `k`, then the baseline's and, if an extension was chosen, its simulation.
+fn history_series(
+    data: &RunData,
+    meas: &[f64],
+    k: usize,
+    id: &str,
+    base: &CandidateResult,
+    chosen: &CandidateResult,
+) -> Vec<Series> {
+    let off = pre_event_offset(meas, data.dt_s);
+    let t: Vec<f64> = (0..meas.len()).map(|i| data.t0_s + i as f64 * data.dt_s).collect();
+    let pick = |sims: &[Simulated]| {
+        sims.get(k).and_then(|s| s.iter().find(|(s, _)| s == id)).map(|(_, v)| v.clone())
+    };
+    let mut series = vec![Series {
+        name: "measured".into(),
+        x: t.clone(),
+        y: meas.iter().map(|v| v - off).collect(),
+        style: SeriesStyle::Solid,
+    }];
+    if let Some(v) = pick(&base.validation_sims) {
+        series.push(Series {
+            name: "baseline".into(),
+            x: t.clone(),
+            y: v,
+            style: SeriesStyle::Dashed,
+        });
+    }
+    if chosen.cause != base.cause {
+        if let Some(v) = pick(&chosen.validation_sims) {
+            series.push(Series {
+                name: format!("extended ({})", chosen.cause.as_str()),
+                x: t.clone(),
+                y: v,
+                style: SeriesStyle::Solid,
+            });
+        }
+    }
+    series
+}
+
+/// Each series' largest half-cycle peak and RMS, joined by "; ".
+fn peak_rms_stats(series: &[Series]) -> String {
+    let peaks = |y: &[f64]| half_cycle_peaks(y).into_iter().fold(0.0f64, f64::max);
+    let stats: Vec<String> = series
+        .iter()
+        .map(|s| format!("{} peak {:.3}, RMS {:.3}", s.name, peaks(&s.y), rms(&s.y)))
+        .collect();
+    stats.join("; ")
 }
 
 /// The series cut to 3 s around the first series' largest |value|.
