@@ -250,101 +250,183 @@ pub fn calibrate(
     exec: &mut dyn FeExecutor,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Calibration, ExecutorError> {
-    let base = around.map(|a| a.base);
     let demand = around.map(|a| a.demand);
     let priors = cause.priors();
-    let fixed = base.map_or(0, <[f64]>::len);
-    let own_all: Vec<usize> = (fixed..priors.len()).collect();
-    let is_late = |i: &usize| base.is_some() && cause.late_parameters().contains(&priors[*i].name);
-    let own: Vec<usize> = own_all.iter().copied().filter(|i| !is_late(i)).collect();
-    let explored: Vec<usize> =
-        own.iter().copied().filter(|i| base.is_none() || priors[*i].reference.is_none()).collect();
-    let d = explored.len();
     let ev = Evaluation { bundle, cause, priors: &priors, runs, demand };
-    let work = campaign_work(bundle, runs);
-    let plan = Stages::of(budget, base.is_some(), own.len(), is_large(work));
-    let n0 = budget.per_dim * d + budget.extra;
-    let planned = n0 + plan.runs(budget, d);
-    let design = draw(DesignMethod::MaximinLhs, n0, d, budget.seed);
-    let held = held_point(&priors, base.unwrap_or(&[]));
-    let embed = |x: &[f64]| -> Vec<f64> {
-        let mut u = held.clone();
-        explored.iter().zip(x).for_each(|(i, v)| u[*i] = *v);
-        u
-    };
-    let us: Vec<Vec<f64>> = (0..design.n()).map(|i| embed(design.row(i))).collect();
+    let course = Course::of(&ev, budget, around);
+    let mut report = |done| progress(done, course.planned.get());
     let mut cal = Calibration {
         cause,
         priors: priors.clone(),
-        free: explored.clone(),
+        free: course.dims.explored.clone(),
         points: Vec::new(),
         demand,
         gauss_newton: None,
     };
-    for chunk in us.chunks(budget.threads.max(1) * 2) {
-        cal.points.extend(evaluate_points(&ev, chunk, exec)?);
-        progress(cal.points.len(), planned);
-    }
-    for round in 0..plan.rounds {
-        let Some(gp) = cal.emulator(n_eff) else { break };
-        let best = cal
-            .best(n_eff)
-            .map(|k| cal.free.iter().map(|i| cal.points[k].u[*i]).collect::<Vec<_>>());
-        let next = proposals(&gp, d, best.as_deref(), budget.per_round, budget.seed + round as u64);
-        let next: Vec<Vec<f64>> = next.iter().map(|x| embed(x)).collect();
-        cal.points.extend(evaluate_points(&ev, &next, exec)?);
-        progress(cal.points.len(), planned);
-    }
-    let stage = |cal: &Calibration, name: &str| {
-        tracing::debug!(cause = cause.as_str(), stage = name, fe_points = cal.points.len());
-    };
-    stage(&cal, "design and emulator rounds");
-    let planned = std::cell::Cell::new(planned);
-    let mut report = |done| progress(done, planned.get());
-    let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
-    let start = match plan.coarse_starts {
-        0 => None,
-        n => search.coarse_start(&mut cal, n, &mut report)?,
-    };
-    let start = start.or_else(|| cal.best(n_eff).map(|k| cal.points[k].u.clone()));
-    cal.free = own.clone();
-    stage(&cal, "coarse starts");
+    let mut search = Search { ev: &ev, n_eff, budget, exec, own: &course.dims.own };
+    search.run_design(&mut cal, &course, &mut report)?;
+    search.emulator_rounds(&mut cal, &course, &mut report)?;
+    log_stage(&cal, "design and emulator rounds");
+    let start = search.local_start(&mut cal, course.stages.coarse_starts, &mut report)?;
+    cal.free = course.dims.own.clone();
+    log_stage(&cal, "coarse starts");
     let Some(u) = start else { return Ok(cal) };
-    let all: Vec<usize> = (0..priors.len()).filter(|i| !is_late(i)).collect();
-    let full = plan.full;
-    let (mut u, mut gn) =
-        search.levenberg_marquardt(&mut cal, Scale::Fine, u, &all, full, &mut report)?;
-    stage(&cal, "local search");
-    let (first_path, rival) =
-        (point_value(&cal, &u, n_eff), around.map_or(f64::INFINITY, |a| a.rival));
-    tracing::debug!(cause = cause.as_str(), first_path, rival, work, "lower-damping path?");
-    if plan.damping_path.takes(first_path, rival, work) {
-        if plan.damping_path != DampingPathUse::Always {
-            planned.set(planned.get() + DampingPath::runs(budget, d));
-        }
-        let path = DampingPath { held: &held, explored: &explored, all: &all };
-        if let Some((u2, gn2)) = search.damping_path(&mut cal, &path, &mut report)? {
-            if point_value(&cal, &u2, n_eff) < point_value(&cal, &u, n_eff) {
-                (u, gn) = (u2, gn2);
-            }
-        }
-        stage(&cal, "lower-damping path");
+    final_searches(&mut search, &mut cal, &course, u, &mut report)?;
+    Ok(cal)
+}
+
+/// The dimensions each stage of one calibration moves, and where its
+/// exploration holds the others.
+struct Dims {
+    /// The variant's own dimensions (an extension's: beyond the baseline's),
+    /// the late shape parameters ([`Cause::late_parameters`]) included.
+    own_all: Vec<usize>,
+    /// Its own dimensions but the late ones (the coarse starts').
+    own: Vec<usize>,
+    /// The dimensions the design and emulator rounds explore.
+    explored: Vec<usize>,
+    /// Every dimension but the late ones (the final local search's).
+    all: Vec<usize>,
+    /// Unit-cube point the exploration holds the others at ([`held_point`]).
+    held: Vec<f64>,
+}
+
+impl Dims {
+    /// The dimensions of `cause` with `priors`, calibrated around the
+    /// baseline's estimate `base` (unit cube) when there is one.
+    fn of(cause: Cause, priors: &[Prior], base: Option<&[f64]>) -> Self {
+        let fixed = base.map_or(0, <[f64]>::len);
+        let own_all: Vec<usize> = (fixed..priors.len()).collect();
+        let is_late =
+            |i: &usize| base.is_some() && cause.late_parameters().contains(&priors[*i].name);
+        let own: Vec<usize> = own_all.iter().copied().filter(|i| !is_late(i)).collect();
+        let explored: Vec<usize> = own
+            .iter()
+            .copied()
+            .filter(|i| base.is_none() || priors[*i].reference.is_none())
+            .collect();
+        let all: Vec<usize> = (0..priors.len()).filter(|i| !is_late(i)).collect();
+        let held = held_point(priors, base.unwrap_or(&[]));
+        Dims { own_all, own, explored, all, held }
     }
+
+    /// The unit-cube point with the explored dimensions at `x`, the others
+    /// held.
+    fn embed(&self, x: &[f64]) -> Vec<f64> {
+        let mut u = self.held.clone();
+        self.explored.iter().zip(x).for_each(|(i, v)| u[*i] = *v);
+        u
+    }
+}
+
+/// What the stages of one calibration follow: its dimensions, its stages,
+/// the FE runs planned so far and what its lower-damping path is judged by.
+struct Course {
+    /// The dimensions each stage moves.
+    dims: Dims,
+    /// Calibrated around the baseline's estimate.
+    extension: bool,
+    /// Design points (`per_dim` per explored dimension and `extra`).
+    design: usize,
+    /// The FE runs of the stages after the design.
+    stages: Stages,
+    /// The campaign's [`campaign_work`].
+    work: f64,
+    /// The lowest −log L a variant calibrated before it reached (+∞: none).
+    rival: f64,
+    /// FE runs planned (the progress total; grows when a stage is added).
+    planned: std::cell::Cell<usize>,
+}
+
+impl Course {
+    /// The course of the variant `ev` under `budget`, around the
+    /// calibrated baseline when there is one.
+    fn of(ev: &Evaluation<'_>, budget: &Budget, around: Option<Around<'_>>) -> Self {
+        let base = around.map(|a| a.base);
+        let dims = Dims::of(ev.cause, ev.priors, base);
+        let d = dims.explored.len();
+        let work = campaign_work(ev.bundle, ev.runs);
+        let stages = Stages::of(budget, base.is_some(), dims.own.len(), is_large(work));
+        let design = budget.per_dim * d + budget.extra;
+        let planned = std::cell::Cell::new(design + stages.runs(budget, d));
+        let rival = around.map_or(f64::INFINITY, |a| a.rival);
+        Course { dims, extension: base.is_some(), design, stages, work, rival, planned }
+    }
+
+    /// Adds `runs` FE runs to those planned.
+    fn plan_more(&self, runs: usize) {
+        self.planned.set(self.planned.get() + runs);
+    }
+}
+
+/// Logs the end of a calibration's stage `name` with the FE points so far.
+fn log_stage(cal: &Calibration, name: &str) {
+    tracing::debug!(cause = cal.cause.as_str(), stage = name, fe_points = cal.points.len());
+}
+
+/// The searches after the exploration, from `start`: the local search over
+/// every dimension but the late ones, the lower-damping path when the course
+/// takes it, the valley walks and the search that frees the late shape
+/// parameters.
+fn final_searches(
+    search: &mut Search<'_, '_>,
+    cal: &mut Calibration,
+    course: &Course,
+    start: Vec<f64>,
+    progress: &mut dyn FnMut(usize),
+) -> Result<(), ExecutorError> {
+    let (dims, full) = (&course.dims, course.stages.full);
+    let end = search.levenberg_marquardt(cal, Scale::Fine, start, &dims.all, full, progress)?;
+    log_stage(cal, "local search");
+    let end = lower_damping_stage(search, cal, course, end, progress)?;
     // A valley between an extension's own parameters; one parameter alone
     // is searched by the local search itself.
-    let walks = if base.is_some() && own.len() >= 2 { budget.valley_walks } else { 0 };
-    (_, gn) = search.valley_walks(&mut cal, (u, gn), walks, full / 2, &mut report)?;
+    let walks =
+        if course.extension && dims.own.len() >= 2 { search.budget.valley_walks } else { 0 };
+    let (_, gn) = search.valley_walks(cal, end, walks, full / 2, progress)?;
     cal.gauss_newton = gn;
     if walks > 0 {
-        stage(&cal, "valley walk");
+        log_stage(cal, "valley walk");
     }
-    if own_all.len() > own.len() {
-        planned.set(planned.get() + full / 2);
-        search_late(&mut search, &mut cal, full / 2, &mut report)?;
-        cal.free = own_all;
-        stage(&cal, "late shape parameters");
+    if dims.own_all.len() > dims.own.len() {
+        course.plan_more(full / 2);
+        search_late(search, cal, full / 2, progress)?;
+        cal.free = dims.own_all.clone();
+        log_stage(cal, "late shape parameters");
     }
-    Ok(cal)
+    Ok(())
+}
+
+/// The lower-damping path ([`Search::damping_path`]) when the course takes
+/// it after a first path that ended at `end`; returns the better end of the
+/// two paths (`end` when the path is not taken).
+fn lower_damping_stage(
+    search: &mut Search<'_, '_>,
+    cal: &mut Calibration,
+    course: &Course,
+    end: SearchEnd,
+    progress: &mut dyn FnMut(usize),
+) -> Result<SearchEnd, ExecutorError> {
+    let n_eff = search.n_eff;
+    let (first_path, rival, work) = (point_value(cal, &end.0, n_eff), course.rival, course.work);
+    tracing::debug!(cause = cal.cause.as_str(), first_path, rival, work, "lower-damping path?");
+    let path_use = course.stages.damping_path;
+    if !path_use.takes(first_path, rival, work) {
+        return Ok(end);
+    }
+    let dims = &course.dims;
+    if path_use != DampingPathUse::Always {
+        course.plan_more(DampingPath::runs(search.budget, dims.explored.len()));
+    }
+    let path = DampingPath { held: &dims.held, explored: &dims.explored, all: &dims.all };
+    let mut end = end;
+    if let Some((u2, gn2)) = search.damping_path(cal, &path, progress)? {
+        if point_value(cal, &u2, n_eff) < point_value(cal, &end.0, n_eff) {
+            end = (u2, gn2);
+        }
+    }
+    log_stage(cal, "lower-damping path");
+    Ok(end)
 }
 
 /// Most own parameters an extension has for two coarse starts. A start
@@ -490,6 +572,64 @@ impl Search<'_, '_> {
         Ok(&cal.points[first..])
     }
 
+    /// Runs the course's design: a maximin Latin hypercube over the
+    /// explored dimensions, in batches of twice the FE threads.
+    fn run_design(
+        &mut self,
+        cal: &mut Calibration,
+        course: &Course,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<(), ExecutorError> {
+        let (dims, budget) = (&course.dims, self.budget);
+        let design =
+            draw(DesignMethod::MaximinLhs, course.design, dims.explored.len(), budget.seed);
+        let us: Vec<Vec<f64>> = (0..design.n()).map(|i| dims.embed(design.row(i))).collect();
+        for chunk in us.chunks(budget.threads.max(1) * 2) {
+            self.evaluate_into(cal, chunk, progress)?;
+        }
+        Ok(())
+    }
+
+    /// The course's emulator rounds: each runs the FE model at the
+    /// [`proposals`] of a GP emulator of −log L over the explored
+    /// dimensions; they stop early when no emulator can be fitted.
+    fn emulator_rounds(
+        &mut self,
+        cal: &mut Calibration,
+        course: &Course,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<(), ExecutorError> {
+        let (dims, budget, n_eff) = (&course.dims, self.budget, self.n_eff);
+        let d = dims.explored.len();
+        for round in 0..course.stages.rounds {
+            let Some(gp) = cal.emulator(n_eff) else { break };
+            let best = cal
+                .best(n_eff)
+                .map(|k| cal.free.iter().map(|i| cal.points[k].u[*i]).collect::<Vec<_>>());
+            let next =
+                proposals(&gp, d, best.as_deref(), budget.per_round, budget.seed + round as u64);
+            let next: Vec<Vec<f64>> = next.iter().map(|x| dims.embed(x)).collect();
+            self.evaluate_into(cal, &next, progress)?;
+        }
+        Ok(())
+    }
+
+    /// Where the final local search starts: the best end of `n`
+    /// [`coarse_start`](Self::coarse_start)s (none when `n` is 0), else the
+    /// best point evaluated so far.
+    fn local_start(
+        &mut self,
+        cal: &mut Calibration,
+        n: usize,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Option<Vec<f64>>, ExecutorError> {
+        let start = match n {
+            0 => None,
+            n => self.coarse_start(cal, n, progress)?,
+        };
+        Ok(start.or_else(|| cal.best(self.n_eff).map(|k| cal.points[k].u.clone())))
+    }
+
     /// Coarse-to-fine start of an extension's final search: Levenberg–Marquardt
     /// on the windowed RMS misfits over the extension's own parameters (the
     /// baseline's stay at its estimate: the final search moves them) from the
@@ -607,112 +747,234 @@ impl Search<'_, '_> {
         local: usize,
         progress: &mut dyn FnMut(usize),
     ) -> Result<(Vec<f64>, Option<DMatrix<f64>>), ExecutorError> {
-        let (ev, n_eff) = (self.ev, self.n_eff);
         let k = active.len();
-        let objective = |p: &Point| match scale {
-            Scale::Fine => p.neg_log_lik(n_eff),
-            Scale::Coarse => p.coarse,
-        };
-        let pick = |r: &(Residuals, Residuals)| match scale {
-            Scale::Fine => r.0.clone(),
-            Scale::Coarse => r.1.clone(),
-        };
-        let mut u = start;
-        let mut f;
-        let (mut lambda, mut spent, mut gn): (f64, usize, Option<DMatrix<f64>>) = (1e-3, 0, None);
         let ext = self.own.len() < cal.priors.len();
         let steps: Vec<f64> =
             active.iter().map(|i| difference_step(ext && self.own.contains(i))).collect();
-        while k > 0 && spent + k < local {
-            let mut us = vec![u.clone()];
-            for (a, i) in active.iter().enumerate() {
-                let h = steps[a];
-                let mut v = u.clone();
-                v[*i] = if v[*i] + h <= 1.0 { v[*i] + h } else { v[*i] - h };
-                us.push(v);
-            }
-            let evals = evaluate_full(ev, &us, self.exec)?;
-            spent += evals.len();
-            f = objective(&evals[0].0);
-            let Some(r0) = evals[0].1.as_ref().map(pick) else { break };
-            let ssr: Vec<f64> =
-                r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
-            let mut jt_r = DVector::zeros(k);
-            let mut jt_j = DMatrix::zeros(k, k);
-            let mut cols: Vec<Option<Residuals>> = Vec::with_capacity(k);
-            for (a, (_, ri)) in evals[1..].iter().enumerate() {
-                let step = us[a + 1][active[a]] - u[active[a]];
-                cols.push(ri.as_ref().map(pick).map(|ri| {
-                    ri.iter()
-                        .zip(&r0)
-                        .map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect())
-                        .collect()
-                }));
-            }
-            if cols.iter().any(Option::is_none) {
-                break;
-            }
-            let cols: Vec<Residuals> = cols.into_iter().flatten().collect();
-            for (c, r) in r0.iter().enumerate() {
-                let n_c = match scale {
-                    Scale::Fine => n_eff.get(c).copied().unwrap_or(0.0),
-                    Scale::Coarse => r.len() as f64,
-                };
-                let w = n_c / ssr[c];
-                for a in 0..k {
-                    jt_r[a] += w * cols[a][c].iter().zip(r).map(|(x, y)| x * y).sum::<f64>();
-                    for b in a..k {
-                        let v =
-                            w * cols[a][c].iter().zip(&cols[b][c]).map(|(x, y)| x * y).sum::<f64>();
-                        jt_j[(a, b)] += v;
-                        if a != b {
-                            jt_j[(b, a)] += v;
-                        }
-                    }
-                }
-            }
-            for (p, _) in &evals {
-                cal.points.push(p.clone());
-            }
-            gn = Some(embed_matrix(&jt_j, active, cal.priors.len()));
+        let set = LmSettings { scale, active, steps, local };
+        let mut state = LmState { u: start, lambda: 1e-3, spent: 0, gn: None };
+        while k > 0 && state.spent + k < local {
+            let Some(centre) = self.linearise(cal, &set, &mut state)? else { break };
+            state.gn = Some(embed_matrix(&centre.jt_j, active, cal.priors.len()));
             progress(cal.points.len());
-            let mut moved = false;
-            let mut attempt = 0;
-            'tries: while attempt < 4 && spent < local + k {
-                let Some(first) = lm_trial(&u, active, &jt_j, &jt_r, lambda) else { break };
-                // The next attempt (10 λ) runs beside this one, so that a
-                // second worker is not idle while the first is judged; it
-                // is dropped unseen when the first is taken, so the points
-                // taken are those of trying one after the other.
-                let second = (attempt + 1 < 4 && spent + 2 <= local + k)
-                    .then(|| lm_trial(&u, active, &jt_j, &jt_r, lambda * 10.0))
-                    .flatten();
-                let trials: Vec<Vec<f64>> = std::iter::once(first).chain(second).collect();
-                let points = evaluate_points(ev, &trials, self.exec)?;
-                for (trial, p) in trials.into_iter().zip(points) {
-                    spent += 1;
-                    attempt += 1;
-                    let ft = objective(&p);
-                    cal.points.push(p);
-                    progress(cal.points.len());
-                    if ft < f {
-                        let gain = f - ft;
-                        (u, moved) = (trial, true);
-                        lambda = (lambda * 0.3).max(1e-6);
-                        if gain < 0.01 {
-                            return Ok((u, gn));
-                        }
-                        break 'tries;
-                    }
-                    lambda *= 10.0;
-                }
-            }
-            if !moved {
+            if self.damped_steps(cal, &set, &centre, &mut state, progress)? != LmStep::Moved {
                 break;
             }
         }
-        Ok((u, gn))
+        Ok((state.u, state.gn))
     }
+
+    /// Runs the FE model at the centre `state.u` and its forward-difference
+    /// points and linearises −log L there; keeps the points in `cal` when
+    /// the Jacobian is complete (None when the centre or a stepped point
+    /// failed: nothing is kept).
+    fn linearise(
+        &mut self,
+        cal: &mut Calibration,
+        set: &LmSettings<'_>,
+        state: &mut LmState,
+    ) -> Result<Option<Centre>, ExecutorError> {
+        let (u, active, scale) = (&state.u, set.active, set.scale);
+        let us = difference_points(u, active, &set.steps);
+        let evals = evaluate_full(self.ev, &us, self.exec)?;
+        state.spent += evals.len();
+        let f = scale.objective(&evals[0].0, self.n_eff);
+        let Some(r0) = evals[0].1.as_ref().map(|r| scale.residuals(r)) else { return Ok(None) };
+        let stepped: Vec<Option<Residuals>> =
+            evals[1..].iter().map(|(_, ri)| ri.as_ref().map(|r| scale.residuals(r))).collect();
+        let h: Vec<f64> = (0..active.len()).map(|a| us[a + 1][active[a]] - u[active[a]]).collect();
+        let Some(cols) = jacobian_columns(&r0, stepped, &h) else { return Ok(None) };
+        let (jt_j, jt_r) = normal_equations(&r0, &cols, scale, self.n_eff);
+        cal.points.extend(evals.into_iter().map(|(p, _)| p));
+        Ok(Some(Centre { f, jt_j, jt_r }))
+    }
+
+    /// Up to four damped steps from `centre` ([`lm_trial`]), λ growing
+    /// tenfold after each that does not lower the objective and shrinking
+    /// to 0.3 λ (at least 1e-6) when one does; two run at once while the
+    /// budget allows. Returns how the round ended.
+    fn damped_steps(
+        &mut self,
+        cal: &mut Calibration,
+        set: &LmSettings<'_>,
+        centre: &Centre,
+        state: &mut LmState,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<LmStep, ExecutorError> {
+        let (active, limit) = (set.active, set.local + set.active.len());
+        let (jt_j, jt_r) = (&centre.jt_j, &centre.jt_r);
+        let mut attempt = 0;
+        while attempt < 4 && state.spent < limit {
+            let Some(first) = lm_trial(&state.u, active, jt_j, jt_r, state.lambda) else { break };
+            // The next attempt (10 λ) runs beside this one, so that a
+            // second worker is not idle while the first is judged; it
+            // is dropped unseen when the first is taken, so the points
+            // taken are those of trying one after the other.
+            let second = (attempt + 1 < 4 && state.spent + 2 <= limit)
+                .then(|| lm_trial(&state.u, active, jt_j, jt_r, state.lambda * 10.0))
+                .flatten();
+            let trials: Vec<Vec<f64>> = std::iter::once(first).chain(second).collect();
+            let points = evaluate_points(self.ev, &trials, self.exec)?;
+            for (trial, p) in trials.into_iter().zip(points) {
+                state.spent += 1;
+                attempt += 1;
+                let ft = set.scale.objective(&p, self.n_eff);
+                cal.points.push(p);
+                progress(cal.points.len());
+                if ft < centre.f {
+                    let gain = centre.f - ft;
+                    state.u = trial;
+                    state.lambda = (state.lambda * 0.3).max(1e-6);
+                    return Ok(if gain < 0.01 { LmStep::Converged } else { LmStep::Moved });
+                }
+                state.lambda *= 10.0;
+            }
+        }
+        Ok(LmStep::Stalled)
+    }
+}
+
+impl Scale {
+    /// The objective of `p` at this scale: −log L of the time histories
+    /// under weights `n_eff`, or of the windowed RMS misfits.
+    fn objective(self, p: &Point, n_eff: &[f64]) -> f64 {
+        match self {
+            Scale::Fine => p.neg_log_lik(n_eff),
+            Scale::Coarse => p.coarse,
+        }
+    }
+
+    /// The residuals fitted at this scale, of (time-history, windowed).
+    fn residuals(self, r: &(Residuals, Residuals)) -> Residuals {
+        match self {
+            Scale::Fine => r.0.clone(),
+            Scale::Coarse => r.1.clone(),
+        }
+    }
+
+    /// The weight n_c of channel `c` with residuals `r`: its `n_eff` (0
+    /// when missing) on the time histories, its windows on the misfits.
+    fn channel_weight(self, c: usize, r: &[f64], n_eff: &[f64]) -> f64 {
+        match self {
+            Scale::Fine => n_eff.get(c).copied().unwrap_or(0.0),
+            Scale::Coarse => r.len() as f64,
+        }
+    }
+}
+
+/// Settings of one Levenberg–Marquardt search
+/// ([`Search::levenberg_marquardt`]).
+struct LmSettings<'s> {
+    /// Which residuals it fits.
+    scale: Scale,
+    /// The dimensions it moves.
+    active: &'s [usize],
+    /// Forward-difference step of each active dimension (unit cube,
+    /// [`difference_step`]).
+    steps: Vec<f64>,
+    /// FE runs it may spend.
+    local: usize,
+}
+
+/// Where a Levenberg–Marquardt search stands.
+struct LmState {
+    /// The current point (unit cube).
+    u: Vec<f64>,
+    /// The damping λ (1e-3 at the start).
+    lambda: f64,
+    /// FE runs spent.
+    spent: usize,
+    /// The Gauss–Newton matrix at the last centre (zero outside the active
+    /// dimensions).
+    gn: Option<DMatrix<f64>>,
+}
+
+/// −log L and its Gauss–Newton system at a Levenberg–Marquardt centre.
+struct Centre {
+    /// The objective at the centre.
+    f: f64,
+    /// Σ n_c/SSR_c · JᵀJ, (active) × (active).
+    jt_j: DMatrix<f64>,
+    /// Σ n_c/SSR_c · Jᵀr, (active).
+    jt_r: DVector<f64>,
+}
+
+/// How a round of damped Levenberg–Marquardt steps ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum LmStep {
+    /// A step lowered the objective by 0.01 nats or more: the search goes on.
+    Moved,
+    /// A step lowered it by less: the search ends there.
+    Converged,
+    /// No step lowered it: the search ends at the centre.
+    Stalled,
+}
+
+/// The centre `u` then one point per `active` dimension stepped by its
+/// `steps` entry, forwards, or backwards where forwards leaves the unit cube.
+fn difference_points(u: &[f64], active: &[usize], steps: &[f64]) -> Vec<Vec<f64>> {
+    let mut us = vec![u.to_vec()];
+    for (a, i) in active.iter().enumerate() {
+        let h = steps[a];
+        let mut v = u.to_vec();
+        v[*i] = if v[*i] + h <= 1.0 { v[*i] + h } else { v[*i] - h };
+        us.push(v);
+    }
+    us
+}
+
+/// Forward-difference Jacobian columns (r_a − r_0)/h_a, (active)(channels)
+/// (samples), from the centre's residuals `r0` and each stepped point's
+/// residuals (None: it failed, and so does the Jacobian) and signed step `h`.
+fn jacobian_columns(
+    r0: &Residuals,
+    stepped: Vec<Option<Residuals>>,
+    h: &[f64],
+) -> Option<Vec<Residuals>> {
+    let cols: Vec<Option<Residuals>> = stepped
+        .into_iter()
+        .zip(h)
+        .map(|(ri, step)| {
+            ri.map(|ri| {
+                ri.iter()
+                    .zip(r0)
+                    .map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect())
+                    .collect()
+            })
+        })
+        .collect();
+    cols.into_iter().collect()
+}
+
+/// The Gauss–Newton system (JᵀWJ, JᵀWr) of −log L = Σ n_c/2 · log SSR_c at
+/// residuals `r0` (channels) with Jacobian columns `cols` (active)(channels),
+/// W = n_c/SSR_c per channel ([`Scale::channel_weight`]; SSR at least 1e-300).
+fn normal_equations(
+    r0: &Residuals,
+    cols: &[Residuals],
+    scale: Scale,
+    n_eff: &[f64],
+) -> (DMatrix<f64>, DVector<f64>) {
+    let k = cols.len();
+    let ssr: Vec<f64> =
+        r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
+    let mut jt_r = DVector::zeros(k);
+    let mut jt_j = DMatrix::zeros(k, k);
+    for (c, r) in r0.iter().enumerate() {
+        let n_c = scale.channel_weight(c, r, n_eff);
+        let w = n_c / ssr[c];
+        for a in 0..k {
+            jt_r[a] += w * cols[a][c].iter().zip(r).map(|(x, y)| x * y).sum::<f64>();
+            for b in a..k {
+                let v = w * cols[a][c].iter().zip(&cols[b][c]).map(|(x, y)| x * y).sum::<f64>();
+                jt_j[(a, b)] += v;
+                if a != b {
+                    jt_j[(b, a)] += v;
+                }
+            }
+        }
+    }
+    (jt_j, jt_r)
 }
 
 /// The Levenberg–Marquardt step from `u` on the `active` dimensions with
