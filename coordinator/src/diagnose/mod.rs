@@ -16,6 +16,7 @@ pub mod executor;
 pub mod farm_executor;
 pub mod filter;
 pub mod fit;
+pub mod levenberg;
 pub mod linear_part;
 pub mod loop_damping;
 pub mod mdl;

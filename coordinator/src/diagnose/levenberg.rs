@@ -1,0 +1,331 @@
+//! Levenberg–Marquardt on −log L of a calibration: forward-difference
+//! Jacobians of the channel residuals, the Gauss–Newton system weighted per
+//! channel, damped steps clamped to the unit cube.
+
+use super::calibrate::{
+    evaluate_full, evaluate_points, Calibration, Point, Residuals, Scale, Search,
+};
+use super::ensemble::difference_step;
+use super::executor::ExecutorError;
+use nalgebra::{DMatrix, DVector};
+
+impl Search<'_, '_> {
+    /// Levenberg–Marquardt on −log L = Σ n_c/2 · log SSR_c over the `active`
+    /// dimensions, from `start`, on the time histories (n_c = n_eff) or the
+    /// windowed misfits (n_c = windows): forward-difference Jacobians of the
+    /// residuals (one FE run per active dimension, in parallel with the
+    /// centre), the Gauss–Newton matrix Σ n_c/SSR_c · JᵀJ, steps clamped to
+    /// the unit cube; stops when `local` FE runs are spent or a step gains
+    /// < 0.01 nats. Returns the final point and the Gauss–Newton matrix
+    /// there (zero outside the active dimensions).
+    pub(super) fn levenberg_marquardt(
+        &mut self,
+        cal: &mut Calibration,
+        scale: Scale,
+        start: Vec<f64>,
+        active: &[usize],
+        local: usize,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<(Vec<f64>, Option<DMatrix<f64>>), ExecutorError> {
+        let k = active.len();
+        let ext = self.own.len() < cal.priors.len();
+        let steps: Vec<f64> =
+            active.iter().map(|i| difference_step(ext && self.own.contains(i))).collect();
+        let set = LmSettings { scale, active, steps, local };
+        let mut state = LmState { u: start, lambda: 1e-3, spent: 0, gn: None };
+        while k > 0 && state.spent + k < local {
+            let Some(centre) = self.linearise(cal, &set, &mut state)? else { break };
+            state.gn = Some(embed_matrix(&centre.jt_j, active, cal.priors.len()));
+            progress(cal.points.len());
+            if self.damped_steps(cal, &set, &centre, &mut state, progress)? != LmStep::Moved {
+                break;
+            }
+        }
+        Ok((state.u, state.gn))
+    }
+
+    /// Runs the FE model at the centre `state.u` and its forward-difference
+    /// points and linearises −log L there; keeps the points in `cal` when
+    /// the Jacobian is complete (None when the centre or a stepped point
+    /// failed: nothing is kept).
+    fn linearise(
+        &mut self,
+        cal: &mut Calibration,
+        set: &LmSettings<'_>,
+        state: &mut LmState,
+    ) -> Result<Option<Centre>, ExecutorError> {
+        let (u, active, scale) = (&state.u, set.active, set.scale);
+        let us = difference_points(u, active, &set.steps);
+        let evals = evaluate_full(self.ev, &us, self.exec)?;
+        state.spent += evals.len();
+        let f = scale.objective(&evals[0].0, self.n_eff);
+        let Some(r0) = evals[0].1.as_ref().map(|r| scale.residuals(r)) else { return Ok(None) };
+        let stepped: Vec<Option<Residuals>> =
+            evals[1..].iter().map(|(_, ri)| ri.as_ref().map(|r| scale.residuals(r))).collect();
+        let h: Vec<f64> = (0..active.len()).map(|a| us[a + 1][active[a]] - u[active[a]]).collect();
+        let Some(cols) = jacobian_columns(&r0, stepped, &h) else { return Ok(None) };
+        let (jt_j, jt_r) = normal_equations(&r0, &cols, scale, self.n_eff);
+        cal.points.extend(evals.into_iter().map(|(p, _)| p));
+        Ok(Some(Centre { f, jt_j, jt_r }))
+    }
+
+    /// Up to four damped steps from `centre` ([`lm_trial`]), λ growing
+    /// tenfold after each that does not lower the objective and shrinking
+    /// to 0.3 λ (at least 1e-6) when one does; two run at once while the
+    /// budget allows. Returns how the round ended.
+    fn damped_steps(
+        &mut self,
+        cal: &mut Calibration,
+        set: &LmSettings<'_>,
+        centre: &Centre,
+        state: &mut LmState,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<LmStep, ExecutorError> {
+        let (active, limit) = (set.active, set.local + set.active.len());
+        let (jt_j, jt_r) = (&centre.jt_j, &centre.jt_r);
+        let mut attempt = 0;
+        while attempt < 4 && state.spent < limit {
+            let Some(first) = lm_trial(&state.u, active, jt_j, jt_r, state.lambda) else { break };
+            // The next attempt (10 λ) runs beside this one, so that a
+            // second worker is not idle while the first is judged; it
+            // is dropped unseen when the first is taken, so the points
+            // taken are those of trying one after the other.
+            let second = (attempt + 1 < 4 && state.spent + 2 <= limit)
+                .then(|| lm_trial(&state.u, active, jt_j, jt_r, state.lambda * 10.0))
+                .flatten();
+            let trials: Vec<Vec<f64>> = std::iter::once(first).chain(second).collect();
+            let points = evaluate_points(self.ev, &trials, self.exec)?;
+            for (trial, p) in trials.into_iter().zip(points) {
+                state.spent += 1;
+                attempt += 1;
+                let ft = set.scale.objective(&p, self.n_eff);
+                cal.points.push(p);
+                progress(cal.points.len());
+                if ft < centre.f {
+                    let gain = centre.f - ft;
+                    state.u = trial;
+                    state.lambda = (state.lambda * 0.3).max(1e-6);
+                    return Ok(if gain < 0.01 { LmStep::Converged } else { LmStep::Moved });
+                }
+                state.lambda *= 10.0;
+            }
+        }
+        Ok(LmStep::Stalled)
+    }
+}
+
+impl Scale {
+    /// The objective of `p` at this scale: −log L of the time histories
+    /// under weights `n_eff`, or of the windowed RMS misfits.
+    fn objective(self, p: &Point, n_eff: &[f64]) -> f64 {
+        match self {
+            Scale::Fine => p.neg_log_lik(n_eff),
+            Scale::Coarse => p.coarse,
+        }
+    }
+
+    /// The residuals fitted at this scale, of (time-history, windowed).
+    fn residuals(self, r: &(Residuals, Residuals)) -> Residuals {
+        match self {
+            Scale::Fine => r.0.clone(),
+            Scale::Coarse => r.1.clone(),
+        }
+    }
+
+    /// The weight n_c of channel `c` with residuals `r`: its `n_eff` (0
+    /// when missing) on the time histories, its windows on the misfits.
+    fn channel_weight(self, c: usize, r: &[f64], n_eff: &[f64]) -> f64 {
+        match self {
+            Scale::Fine => n_eff.get(c).copied().unwrap_or(0.0),
+            Scale::Coarse => r.len() as f64,
+        }
+    }
+}
+
+/// Settings of one Levenberg–Marquardt search
+/// ([`Search::levenberg_marquardt`]).
+struct LmSettings<'s> {
+    /// Which residuals it fits.
+    scale: Scale,
+    /// The dimensions it moves.
+    active: &'s [usize],
+    /// Forward-difference step of each active dimension (unit cube,
+    /// [`difference_step`]).
+    steps: Vec<f64>,
+    /// FE runs it may spend.
+    local: usize,
+}
+
+/// Where a Levenberg–Marquardt search stands.
+struct LmState {
+    /// The current point (unit cube).
+    u: Vec<f64>,
+    /// The damping λ (1e-3 at the start).
+    lambda: f64,
+    /// FE runs spent.
+    spent: usize,
+    /// The Gauss–Newton matrix at the last centre (zero outside the active
+    /// dimensions).
+    gn: Option<DMatrix<f64>>,
+}
+
+/// −log L and its Gauss–Newton system at a Levenberg–Marquardt centre.
+struct Centre {
+    /// The objective at the centre.
+    f: f64,
+    /// Σ n_c/SSR_c · JᵀJ, (active) × (active).
+    jt_j: DMatrix<f64>,
+    /// Σ n_c/SSR_c · Jᵀr, (active).
+    jt_r: DVector<f64>,
+}
+
+/// How a round of damped Levenberg–Marquardt steps ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum LmStep {
+    /// A step lowered the objective by 0.01 nats or more: the search goes on.
+    Moved,
+    /// A step lowered it by less: the search ends there.
+    Converged,
+    /// No step lowered it: the search ends at the centre.
+    Stalled,
+}
+
+/// The centre `u` then one point per `active` dimension stepped by its
+/// `steps` entry, forwards, or backwards where forwards leaves the unit cube.
+fn difference_points(u: &[f64], active: &[usize], steps: &[f64]) -> Vec<Vec<f64>> {
+    let mut us = vec![u.to_vec()];
+    for (a, i) in active.iter().enumerate() {
+        let h = steps[a];
+        let mut v = u.to_vec();
+        v[*i] = if v[*i] + h <= 1.0 { v[*i] + h } else { v[*i] - h };
+        us.push(v);
+    }
+    us
+}
+
+/// Forward-difference Jacobian columns (r_a − r_0)/h_a, (active)(channels)
+/// (samples), from the centre's residuals `r0` and each stepped point's
+/// residuals (None: it failed, and so does the Jacobian) and signed step `h`.
+fn jacobian_columns(
+    r0: &Residuals,
+    stepped: Vec<Option<Residuals>>,
+    h: &[f64],
+) -> Option<Vec<Residuals>> {
+    let cols: Vec<Option<Residuals>> = stepped
+        .into_iter()
+        .zip(h)
+        .map(|(ri, step)| {
+            ri.map(|ri| {
+                ri.iter()
+                    .zip(r0)
+                    .map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / step).collect())
+                    .collect()
+            })
+        })
+        .collect();
+    cols.into_iter().collect()
+}
+
+/// The Gauss–Newton system (JᵀWJ, JᵀWr) of −log L = Σ n_c/2 · log SSR_c at
+/// residuals `r0` (channels) with Jacobian columns `cols` (active)(channels),
+/// W = n_c/SSR_c per channel ([`Scale::channel_weight`]; SSR at least 1e-300).
+fn normal_equations(
+    r0: &Residuals,
+    cols: &[Residuals],
+    scale: Scale,
+    n_eff: &[f64],
+) -> (DMatrix<f64>, DVector<f64>) {
+    let k = cols.len();
+    let ssr: Vec<f64> =
+        r0.iter().map(|c| c.iter().map(|x| x * x).sum::<f64>().max(1e-300)).collect();
+    let mut jt_r = DVector::zeros(k);
+    let mut jt_j = DMatrix::zeros(k, k);
+    for (c, r) in r0.iter().enumerate() {
+        let n_c = scale.channel_weight(c, r, n_eff);
+        let w = n_c / ssr[c];
+        for a in 0..k {
+            jt_r[a] += w * cols[a][c].iter().zip(r).map(|(x, y)| x * y).sum::<f64>();
+            for b in a..k {
+                let v = w * cols[a][c].iter().zip(&cols[b][c]).map(|(x, y)| x * y).sum::<f64>();
+                jt_j[(a, b)] += v;
+                if a != b {
+                    jt_j[(b, a)] += v;
+                }
+            }
+        }
+    }
+    (jt_j, jt_r)
+}
+
+/// The Levenberg–Marquardt step from `u` on the `active` dimensions with
+/// damping `lambda`: (JᵀJ + λ diag JᵀJ) δ = −Jᵀr, clamped to the unit cube
+/// (None when the damped matrix is not positive definite).
+fn lm_trial(
+    u: &[f64],
+    active: &[usize],
+    jt_j: &DMatrix<f64>,
+    jt_r: &DVector<f64>,
+    lambda: f64,
+) -> Option<Vec<f64>> {
+    let mut a = jt_j.clone();
+    for i in 0..active.len() {
+        a[(i, i)] *= 1.0 + lambda;
+        a[(i, i)] += 1e-12;
+    }
+    let delta = a.cholesky()?.solve(&(-jt_r));
+    let mut out = u.to_vec();
+    active.iter().zip(delta.iter()).for_each(|(i, d)| out[*i] = (u[*i] + d).clamp(0.0, 1.0));
+    Some(out)
+}
+
+/// `m` (over the `dims` of a `k`-dimensional space) as a k × k matrix, zero
+/// outside them.
+fn embed_matrix(m: &DMatrix<f64>, dims: &[usize], k: usize) -> DMatrix<f64> {
+    let mut out = DMatrix::zeros(k, k);
+    for (a, i) in dims.iter().enumerate() {
+        for (b, j) in dims.iter().enumerate() {
+            out[(*i, *j)] = m[(a, b)];
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn a_matrix_over_some_dimensions_embeds_with_zeros_elsewhere() {
+        let m = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 5.0]);
+        let e = embed_matrix(&m, &[1, 3], 4);
+        assert_eq!((e[(1, 1)], e[(1, 3)], e[(3, 1)], e[(3, 3)]), (1.0, 2.0, 2.0, 5.0));
+        assert_eq!(e.iter().filter(|x| **x != 0.0).count(), 4);
+    }
+
+    proptest! {
+        /// A step on some dimensions leaves the others where they were,
+        /// and with no damping solves the Gauss–Newton system on the
+        /// active ones (inside the cube).
+        #[test]
+        fn a_step_moves_only_the_active_dimensions(
+            u in proptest::collection::vec(0.3f64..0.7, 4),
+            a in proptest::collection::vec(-1.0f64..1.0, 4),
+            g in proptest::collection::vec(-0.01f64..0.01, 2),
+            pick in 0usize..6,
+        ) {
+            let pairs = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+            let active = pairs[pick];
+            let m = DMatrix::from_row_slice(2, 2, &a);
+            let jt_j = &m * m.transpose() + DMatrix::identity(2, 2);
+            let jt_r = DVector::from_row_slice(&g);
+            let next = lm_trial(&u, &active, &jt_j, &jt_r, 0.0).unwrap();
+            for i in (0..4).filter(|i| !active.contains(i)) {
+                prop_assert_eq!(next[i], u[i]);
+            }
+            let delta = DVector::from_iterator(2, active.iter().map(|i| next[*i] - u[*i]));
+            let res = &jt_j * &delta + &jt_r;
+            prop_assert!(res.norm() < 1e-9, "{}", res);
+        }
+    }
+}
