@@ -296,6 +296,61 @@ impl Condensed {
     }
 }
 
+/// What a condensed step starts from and keeps fixed.
+struct StepStart {
+    /// Index of the basis at the step size.
+    bi: usize,
+    /// r₀ = K₀⁻¹ R(uₙ) (mm); (n_dof).
+    r0: Vec<f64>,
+    /// The nonlinear springs' committed values.
+    at_start: SpringVectors,
+    /// d₀ = dₙ + Wᵀr₀ + G gₙ (mm); (m).
+    d0: Vec<f64>,
+}
+
+impl Condensed {
+    /// d₀ = dₙ + Wᵀr₀ + G gₙ (mm) with G of basis `bi`, from the committed
+    /// values `start` and r₀ (n_dof).
+    fn start_deformations(
+        &self,
+        s: &Structure,
+        bi: usize,
+        start: &SpringVectors,
+        r0: &[f64],
+    ) -> Vec<f64> {
+        let m = self.springs.len();
+        let mut d0: Vec<f64> =
+            (0..m).map(|k| start.d[k] + w_dot(&s.springs[self.springs[k]].eqs, r0)).collect();
+        add_columns(&self.bases[bi].g, m, &start.g, &mut d0);
+        d0
+    }
+
+    /// φ = d − d₀ + G g (mm) at the springs' values `v` into `phi` (m).
+    fn phi(&self, st: &StepStart, v: &SpringVectors, phi: &mut [f64]) {
+        let m = self.springs.len();
+        phi.iter_mut().zip(&v.d).zip(&st.d0).for_each(|((p, d), d0)| *p = d - d0);
+        add_columns(&self.bases[st.bi].g, m, &v.g, phi);
+    }
+
+    /// Whether `phi` is at its round-off floor (fills `scale` with its scale).
+    fn phi_at_round_off(
+        &self,
+        st: &StepStart,
+        v: &SpringVectors,
+        phi: &[f64],
+        settings: &NewtonSettings,
+        scale: &mut [f64],
+    ) -> bool {
+        phi_scale(&self.bases[st.bi].g, v, &st.at_start, &st.d0, scale);
+        at_round_off(phi, scale, settings.floor_factor)
+    }
+}
+
+/// The linearised spring forces ĝ = g + δ Δd (N) after the increment `dd`.
+fn linearised_forces(v: &SpringVectors, dd: &[f64]) -> Vec<f64> {
+    v.g.iter().zip(&v.delta).zip(dd).map(|((g, dl), x)| g + dl * x).collect()
+}
+
 impl Dynamics<'_> {
     /// [`Dynamics::solve_step`] on the nonlinear springs' deformations
     /// (see the module comment); returns the number of iterations.
@@ -311,25 +366,9 @@ impl Dynamics<'_> {
         settings: &NewtonSettings,
     ) -> Result<usize, NewtonFailure> {
         let s = self.structure();
-        let n = committed.u.len();
-        trial.u.clone_from(&committed.u);
-        trial.follow_displacements(nm, committed);
-        let mut r0 = vec![0.0; n];
-        self.residual(trial, springs, ext, &mut r0);
-        let bi = match c.basis_at(nm.dt_s) {
-            Some(i) => i,
-            None => {
-                let base_eff = self.base_values(nm).to_vec();
-                c.add_basis(s, nm.dt_s, &base_eff, self.cache_mut())?
-            }
-        };
-        c.bases[bi].factor.solve_in_place(&mut r0);
+        let st = self.condensed_start(c, nm, committed, trial, springs, ext)?;
         let m = c.springs.len();
-        let start = c.current(springs);
-        let mut d0: Vec<f64> =
-            (0..m).map(|k| start.d[k] + w_dot(&s.springs[c.springs[k]].eqs, &r0)).collect();
-        add_columns(&c.bases[bi].g, m, &start.g, &mut d0);
-        let mut v = start.clone();
+        let mut v = st.at_start.clone();
         let (mut phi, mut dd, mut scale) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
         let mut solved: Option<(Vec<f64>, Vec<f64>)> = None; // (δ, ĝ) of the last solve
         let mut last = f64::NAN;
@@ -337,35 +376,72 @@ impl Dynamics<'_> {
             if it > 1 {
                 c.trial(s, springs, &mut v)?;
             }
-            phi.iter_mut().zip(&v.d).zip(&d0).for_each(|((p, d), d0)| *p = d - d0);
-            add_columns(&c.bases[bi].g, m, &v.g, &mut phi);
+            c.phi(&st, &v, &mut phi);
             let kept = solved.as_ref().is_some_and(|(delta, _)| *delta == v.delta);
-            let floor = it > 1 && (kept || last < settings.floor_tol_mm) && {
-                phi_scale(&c.bases[bi].g, &v, &start, &d0, &mut scale);
-                at_round_off(&phi, &scale, settings.floor_factor)
-            };
+            let floor = it > 1
+                && (kept || last < settings.floor_tol_mm)
+                && c.phi_at_round_off(&st, &v, &phi, settings, &mut scale);
             if floor && kept {
                 let ghat = solved.map(|(_, g)| g).unwrap_or_default();
-                self.finish(c, bi, &r0, &start.g, &ghat, nm, committed, trial, springs)?;
+                self.finish(c, &st, &ghat, nm, committed, trial, springs)?;
                 return Ok(it - 1);
             }
-            c.dense.increment(bi, &c.bases[bi].g, &v.delta, &phi, &mut dd);
-            let ghat: Vec<f64> =
-                v.g.iter().zip(&v.delta).zip(&dd).map(|((g, dl), x)| g + dl * x).collect();
+            c.dense.increment(st.bi, &c.bases[st.bi].g, &v.delta, &phi, &mut dd);
+            let ghat = linearised_forces(&v, &dd);
             let prev = solved.as_ref().map(|(_, g)| g.as_slice());
-            let norm = c.increment_norm(bi, settings, prev, &ghat, &dd, &r0, &start.g);
+            let norm = c.increment_norm(st.bi, settings, prev, &ghat, &dd, &st.r0, &st.at_start.g);
             if !norm.is_finite() || dd.iter().any(|x| !x.is_finite()) {
                 return Err(NewtonFailure::NonFinite { iteration: it });
             }
             v.d.iter_mut().zip(&dd).for_each(|(d, x)| *d += x);
             last = norm;
             if norm < settings.tol_mm || (floor && norm < settings.floor_tol_mm) {
-                self.finish(c, bi, &r0, &start.g, &ghat, nm, committed, trial, springs)?;
+                self.finish(c, &st, &ghat, nm, committed, trial, springs)?;
                 return Ok(it);
             }
             solved = Some((v.delta.clone(), ghat));
         }
         Err(NewtonFailure::MaxIterations { iterations: settings.max_iter, last_norm_mm: last })
+    }
+
+    /// Sets `trial` at rest on the committed displacements and returns what
+    /// the condensed step starts from (adding the basis at this step size
+    /// when missing).
+    fn condensed_start(
+        &mut self,
+        c: &mut Condensed,
+        nm: &NewmarkConstants,
+        committed: &Kinematics,
+        trial: &mut Kinematics,
+        springs: &SpringStates,
+        ext: &[f64],
+    ) -> Result<StepStart, NewtonFailure> {
+        let n = committed.u.len();
+        trial.u.clone_from(&committed.u);
+        trial.follow_displacements(nm, committed);
+        let mut r0 = vec![0.0; n];
+        self.residual(trial, springs, ext, &mut r0);
+        let bi = self.basis_index(c, nm)?;
+        c.bases[bi].factor.solve_in_place(&mut r0);
+        let start = c.current(springs);
+        let d0 = c.start_deformations(self.structure(), bi, &start, &r0);
+        Ok(StepStart { bi, r0, at_start: start, d0 })
+    }
+
+    /// Index of `c`'s basis at the step of `nm`, computed (one sparse
+    /// factorization) when missing.
+    fn basis_index(
+        &mut self,
+        c: &mut Condensed,
+        nm: &NewmarkConstants,
+    ) -> Result<usize, NewtonFailure> {
+        match c.basis_at(nm.dt_s) {
+            Some(i) => Ok(i),
+            None => {
+                let base_eff = self.base_values(nm).to_vec();
+                c.add_basis(self.structure(), nm.dt_s, &base_eff, self.cache_mut())
+            }
+        }
     }
 
     /// Sets the trial state at u = uₙ + r₀ − Z(ĝ − gₙ): every spring, the
@@ -374,9 +450,7 @@ impl Dynamics<'_> {
     fn finish(
         &self,
         c: &Condensed,
-        bi: usize,
-        r0: &[f64],
-        g_start: &[f64],
+        st: &StepStart,
         ghat: &[f64],
         nm: &NewmarkConstants,
         committed: &Kinematics,
@@ -384,9 +458,9 @@ impl Dynamics<'_> {
         springs: &mut SpringStates,
     ) -> Result<(), NewtonFailure> {
         let n = committed.u.len();
-        trial.u.iter_mut().zip(&committed.u).zip(r0).for_each(|((u, un), r)| *u = un + r);
-        let e: Vec<f64> = g_start.iter().zip(ghat).map(|(a, b)| a - b).collect();
-        add_columns(&c.bases[bi].z, n, &e, &mut trial.u);
+        trial.u.iter_mut().zip(&committed.u).zip(&st.r0).for_each(|((u, un), r)| *u = un + r);
+        let e: Vec<f64> = st.at_start.g.iter().zip(ghat).map(|(a, b)| a - b).collect();
+        add_columns(&c.bases[st.bi].z, n, &e, &mut trial.u);
         springs.set_trial(self.structure(), &trial.u).map_err(NewtonFailure::Material)?;
         trial.follow_displacements(nm, committed);
         Ok(())

@@ -162,6 +162,42 @@ enum Operator {
     Stale,
 }
 
+/// What a sparse Newton step carries from one iteration to the next.
+struct SparseIteration {
+    /// Residual (N), overwritten by the increment Δu (mm); (n_dof).
+    r: Vec<f64>,
+    /// Round-off scale of the residual (N); (n_dof).
+    scale: Vec<f64>,
+    /// Last ‖Δu‖₂ (mm); NaN before the first increment.
+    last: f64,
+    /// The last increment was solved with the exact tangent.
+    exact_solve: bool,
+    /// Spring tangents of the last exact solve (N/mm).
+    solved_tangents: Vec<f64>,
+    /// Approximate-tangent iterations done in this step.
+    stale_iters: usize,
+    /// Approximate-tangent iterations still allowed in this step.
+    allow_stale: bool,
+    /// The operator the Krylov accelerator's directions belong to.
+    krylov_operator: Option<u64>,
+}
+
+impl SparseIteration {
+    /// Before the first iteration of a step on `n` DOFs.
+    fn new(n: usize, settings: &NewtonSettings) -> Self {
+        SparseIteration {
+            r: vec![0.0; n],
+            scale: vec![0.0; n],
+            last: f64::NAN,
+            exact_solve: false,
+            solved_tangents: Vec::new(),
+            stale_iters: 0,
+            allow_stale: settings.stale_max_iter > 0,
+            krylov_operator: None,
+        }
+    }
+}
+
 /// The constant parts of the dynamic system and the factorization cache.
 pub struct Dynamics<'a> {
     s: &'a Structure,
@@ -358,7 +394,6 @@ impl<'a> Dynamics<'a> {
 
     /// Solves one step from `committed` to a converged `trial`; returns the
     /// number of iterations. `ext` is Σ M r a_g at the step end (N).
-    #[allow(clippy::too_many_arguments)]
     pub fn solve_step(
         &mut self,
         nm: &NewmarkConstants,
@@ -376,67 +411,121 @@ impl<'a> Dynamics<'a> {
                 return res;
             }
         }
+        self.solve_step_sparse(nm, committed, trial, springs, ext, settings)
+    }
+
+    /// [`Dynamics::solve_step`] on every free DOF with the sparse tangent;
+    /// returns the number of iterations.
+    fn solve_step_sparse(
+        &mut self,
+        nm: &NewmarkConstants,
+        committed: &Kinematics,
+        trial: &mut Kinematics,
+        springs: &mut SpringStates,
+        ext: &[f64],
+        settings: &NewtonSettings,
+    ) -> Result<usize, NewtonFailure> {
         trial.u.clone_from(&committed.u);
-        let mut r = vec![0.0; committed.u.len()];
-        let mut scale = vec![0.0; committed.u.len()];
-        let mut last = f64::NAN;
-        let (mut exact_solve, mut solved_tangents) = (false, Vec::new());
-        let (mut stale_iters, mut allow_stale) = (0, settings.stale_max_iter > 0);
-        let mut krylov_operator = None;
+        let mut st = SparseIteration::new(committed.u.len(), settings);
         for it in 1..=settings.max_iter {
-            springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
-            trial.follow_displacements(nm, committed);
-            self.residual(trial, springs, ext, &mut r);
+            self.set_trial_state(nm, committed, trial, springs)?;
+            self.residual(trial, springs, ext, &mut st.r);
             // An increment solved with the exact tangent that left every
             // spring on the tangent it was solved with is, for springs
             // linear on that segment, the step's solution: a round-off
             // residual confirms it, and a further solve would only move
             // round-off around.
-            let kept = exact_solve && springs.tangent_n_mm == solved_tangents;
-            let floor = it > 1 && (kept || last < settings.floor_tol_mm) && {
-                residual_scale(self.s, &self.c_values, trial, springs, ext, &mut scale);
-                at_round_off(&r, &scale, settings.floor_factor)
-            };
+            let kept = st.exact_solve && springs.tangent_n_mm == st.solved_tangents;
+            let floor = it > 1
+                && (kept || st.last < settings.floor_tol_mm)
+                && self.residual_at_round_off(trial, springs, ext, settings, &mut st);
             if floor && kept {
                 return Ok(it - 1);
             }
-            let allow = allow_stale && stale_iters < settings.stale_max_iter;
-            let op = self.prepare_operator(nm, &springs.tangent_n_mm, allow)?;
-            exact_solve = op == Operator::Exact;
-            if exact_solve {
-                solved_tangents.clone_from(&springs.tangent_n_mm);
-            }
-            if let Some(f) = &self.factor {
-                f.solve_in_place(&mut r);
-                self.low_rank.correct(&self.spring_eqs, &mut r);
-            }
-            if op == Operator::Stale {
-                if krylov_operator != Some(self.operator_id) {
-                    self.krylov.reset();
-                    krylov_operator = Some(self.operator_id);
-                }
-                self.krylov.accelerate(&mut r, KRYLOV_MAX_DIM);
-                stale_iters += 1;
-                self.stale_iterations += 1;
-            } else {
-                krylov_operator = None;
-            }
-            let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let op = self.solve_increment(nm, &springs.tangent_n_mm, settings, &mut st)?;
+            let norm = st.r.iter().map(|x| x * x).sum::<f64>().sqrt();
             if !norm.is_finite() {
                 return Err(NewtonFailure::NonFinite { iteration: it });
             }
-            if op == Operator::Stale && norm > STALE_MIN_CONTRACTION * last {
-                allow_stale = false;
+            if op == Operator::Stale && norm > STALE_MIN_CONTRACTION * st.last {
+                st.allow_stale = false;
             }
-            trial.u.iter_mut().zip(&r).for_each(|(u, d)| *u += d);
-            last = norm;
+            trial.u.iter_mut().zip(&st.r).for_each(|(u, d)| *u += d);
+            st.last = norm;
             let exact = self.linear && op == Operator::Exact;
             if exact || norm < settings.tol_mm || (floor && norm < settings.floor_tol_mm) {
-                springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
-                trial.follow_displacements(nm, committed);
+                self.set_trial_state(nm, committed, trial, springs)?;
                 return Ok(it);
             }
         }
-        Err(NewtonFailure::MaxIterations { iterations: settings.max_iter, last_norm_mm: last })
+        Err(NewtonFailure::MaxIterations { iterations: settings.max_iter, last_norm_mm: st.last })
+    }
+
+    /// Sets every spring at `trial.u`, then the trial velocities and
+    /// accelerations from `committed` (Newmark's update).
+    fn set_trial_state(
+        &self,
+        nm: &NewmarkConstants,
+        committed: &Kinematics,
+        trial: &mut Kinematics,
+        springs: &mut SpringStates,
+    ) -> Result<(), NewtonFailure> {
+        springs.set_trial(self.s, &trial.u).map_err(NewtonFailure::Material)?;
+        trial.follow_displacements(nm, committed);
+        Ok(())
+    }
+
+    /// Whether the residual `st.r` is at its round-off floor (fills
+    /// `st.scale` with its scale, N).
+    fn residual_at_round_off(
+        &self,
+        trial: &Kinematics,
+        springs: &SpringStates,
+        ext: &[f64],
+        settings: &NewtonSettings,
+        st: &mut SparseIteration,
+    ) -> bool {
+        residual_scale(self.s, &self.c_values, trial, springs, ext, &mut st.scale);
+        at_round_off(&st.r, &st.scale, settings.floor_factor)
+    }
+
+    /// Overwrites the residual `st.r` with the increment Δu (mm) solved with
+    /// the operator chosen for spring tangents `tangents` (N/mm); returns
+    /// that operator.
+    fn solve_increment(
+        &mut self,
+        nm: &NewmarkConstants,
+        tangents: &[f64],
+        settings: &NewtonSettings,
+        st: &mut SparseIteration,
+    ) -> Result<Operator, NewtonFailure> {
+        let allow = st.allow_stale && st.stale_iters < settings.stale_max_iter;
+        let op = self.prepare_operator(nm, tangents, allow)?;
+        st.exact_solve = op == Operator::Exact;
+        if st.exact_solve {
+            tangents.clone_into(&mut st.solved_tangents);
+        }
+        if let Some(f) = &self.factor {
+            f.solve_in_place(&mut st.r);
+            self.low_rank.correct(&self.spring_eqs, &mut st.r);
+        }
+        if op == Operator::Stale {
+            self.accelerate_stale(st);
+        } else {
+            st.krylov_operator = None;
+        }
+        Ok(op)
+    }
+
+    /// Krylov acceleration of an increment `st.r` solved with a kept
+    /// approximate tangent (restarted when that operator changed).
+    fn accelerate_stale(&mut self, st: &mut SparseIteration) {
+        if st.krylov_operator != Some(self.operator_id) {
+            self.krylov.reset();
+            st.krylov_operator = Some(self.operator_id);
+        }
+        self.krylov.accelerate(&mut st.r, KRYLOV_MAX_DIM);
+        st.stale_iters += 1;
+        self.stale_iterations += 1;
     }
 }
