@@ -255,7 +255,27 @@ pub fn load_problem(
     data: &DataSection,
     params: &[ParameterSection],
 ) -> anyhow::Result<Problem> {
-    let file = config.display().to_string();
+    let (path, cols) = read_data(config, data)?;
+    let d = data.x.len();
+    let n = cols[d].len();
+    let x: Vec<Vec<f64>> = (0..n).map(|i| (0..d).map(|j| cols[j][i]).collect()).collect();
+    let prior = prior_box(config, params)?;
+    let simulator: Box<dyn Simulator> = if sim.kind == "gp" {
+        Box::new(gp_simulator(config, sim, params, n)?)
+    } else {
+        Box::new(model_simulator(config, sim, params, &cols[..d], n, &path)?)
+    };
+    Ok(Problem {
+        x,
+        y: cols[d].clone(),
+        truth: data.truth.as_ref().map(|_| cols[d + 1].clone()),
+        sim: simulator,
+        prior,
+    })
+}
+
+/// The resolved data path and its columns: the x columns, then y, then truth (if set).
+fn read_data(config: &Path, data: &DataSection) -> anyhow::Result<(PathBuf, Vec<Vec<f64>>)> {
     let path = resolve(config, &data.file)?;
     let mut names: Vec<&str> = data.x.iter().map(String::as_str).collect();
     names.push(&data.y);
@@ -263,38 +283,30 @@ pub fn load_problem(
         names.push(t);
     }
     let cols = read_columns(&path, &names)?;
-    let d = data.x.len();
-    let n = cols[d].len();
-    let x: Vec<Vec<f64>> = (0..n).map(|i| (0..d).map(|j| cols[j][i]).collect()).collect();
-    let prior = UniformBox::new(
+    Ok((path, cols))
+}
+
+/// The uniform prior box of the `[[parameters]]`, in their order.
+fn prior_box(config: &Path, params: &[ParameterSection]) -> anyhow::Result<UniformBox> {
+    UniformBox::new(
         params.iter().map(|p| p.name.clone()).collect(),
         params.iter().map(|p| p.low).collect(),
         params.iter().map(|p| p.high).collect(),
     )
-    .map_err(|e| anyhow::anyhow!("{file}: [[parameters]]: {e}"))?;
-    let problem = |sim: Box<dyn Simulator>| Problem {
-        x: x.clone(),
-        y: cols[d].clone(),
-        truth: data.truth.as_ref().map(|_| cols[d + 1].clone()),
-        sim,
-        prior: prior.clone(),
-    };
-    if sim.kind == "gp" {
-        return Ok(problem(Box::new(gp_simulator(config, sim, params, n)?)));
-    }
-    let mut options = serde_json::to_value(&sim.options)?;
-    if let Some(key) = &sim.x_option {
-        if d != 1 {
-            return Err(ConfigError {
-                file,
-                key: "simulator.x_option".into(),
-                value: key.clone(),
-                expected: "exactly one data.x column".into(),
-            }
-            .into());
-        }
-        options[key] = serde_json::json!(cols[0]);
-    }
+    .map_err(|e| anyhow::anyhow!("{}: [[parameters]]: {e}", config.display()))
+}
+
+/// The registry model of `[simulator]`, checked to give one output per data row (`n_rows`).
+fn model_simulator(
+    config: &Path,
+    sim: &SimulatorSection,
+    params: &[ParameterSection],
+    x_cols: &[Vec<f64>],
+    n_rows: usize,
+    data_path: &Path,
+) -> anyhow::Result<ModelSimulator> {
+    let file = config.display().to_string();
+    let options = model_options(&file, sim, x_cols)?;
     let param_names: Vec<String> = params.iter().map(|p| p.name.clone()).collect();
     let spec = protocol::ModelSpec {
         kind: sim.kind.clone(),
@@ -305,16 +317,38 @@ pub fn load_problem(
     let model =
         worker::registry::build(&spec).map_err(|e| anyhow::anyhow!("{file}: [simulator]: {e}"))?;
     let n_out = model.output_names().len();
-    if n_out != n {
+    if n_out != n_rows {
         return Err(ConfigError {
             file,
             key: "simulator".into(),
             value: format!("{n_out} outputs"),
-            expected: format!("one output per data row ({n} rows in {})", path.display()),
+            expected: format!("one output per data row ({n_rows} rows in {})", data_path.display()),
         }
         .into());
     }
-    Ok(problem(Box::new(ModelSimulator { model, names: param_names, n_outputs: n_out })))
+    Ok(ModelSimulator { model, names: param_names, n_outputs: n_out })
+}
+
+/// `simulator.options` as JSON, with the single x column (`x_cols`) under `x_option` if set.
+fn model_options(
+    file: &str,
+    sim: &SimulatorSection,
+    x_cols: &[Vec<f64>],
+) -> anyhow::Result<serde_json::Value> {
+    let mut options = serde_json::to_value(&sim.options)?;
+    if let Some(key) = &sim.x_option {
+        if x_cols.len() != 1 {
+            return Err(ConfigError {
+                file: file.to_string(),
+                key: "simulator.x_option".into(),
+                value: key.clone(),
+                expected: "exactly one data.x column".into(),
+            }
+            .into());
+        }
+        options[key] = serde_json::json!(x_cols[0]);
+    }
+    Ok(options)
 }
 
 /// GP emulators seen as a simulator over the `[[parameters]]` in their order.

@@ -7,13 +7,15 @@
 use super::sweep::FarmArgs;
 use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
+use coordinator::bundle::Bundle;
 use coordinator::diagnose::calibrate::Budget;
 use coordinator::diagnose::damping_path::DampingPathUse;
 use coordinator::diagnose::evidence::evidence;
 use coordinator::diagnose::executor::FeExecutor;
 use coordinator::diagnose::farm_executor::{FarmExecutor, FarmPlan};
-use coordinator::diagnose::pipeline::{diagnose_with, DiagnoseOptions};
-use coordinator::diagnose::verdict::verdict;
+use coordinator::diagnose::pipeline::{diagnose_with, DiagnoseOptions, Diagnosis};
+use coordinator::diagnose::resample::Decimated;
+use coordinator::diagnose::verdict::{verdict, VerdictJson};
 use coordinator::farm::FarmSettings;
 use coordinator::study::TransportKind;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -115,6 +117,23 @@ pub fn diagnose_dir(
     plan: &FarmPlan,
     quiet: bool,
 ) -> Result<PathBuf> {
+    let (bundle, resampled) = read_for_simulation(dir, simulation_rate_hz)?;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let mut exec = FarmExecutor::new(plan.clone())?;
+    let d = diagnose_with_progress(&bundle, opts, &mut exec, quiet)?;
+    let (v, report) = write_diagnosis(out, &bundle, &d, &resampled)?;
+    print_verdict(&v, &d);
+    if let Some(store) = &plan.store {
+        print_store_use(store, plan, &exec);
+    }
+    Ok(report)
+}
+
+/// Reads and summarises the bundle in `dir`, its fast runs decimated towards the rate (Hz).
+fn read_for_simulation(
+    dir: &Path,
+    simulation_rate_hz: Option<f64>,
+) -> Result<(Bundle, Vec<Decimated>)> {
     let bundle = coordinator::bundle::read_bundle(dir)?;
     eprintln!("{}", bundle.summary());
     let (bundle, resampled) = match simulation_rate_hz {
@@ -127,36 +146,59 @@ pub fn diagnose_dir(
             r.run, r.from_hz, r.to_hz
         );
     }
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let mut exec = FarmExecutor::new(plan.clone())?;
+    Ok((bundle, resampled))
+}
+
+/// Diagnoses `bundle` through `exec`, the stages shown on a progress bar (hidden when `quiet`).
+fn diagnose_with_progress(
+    bundle: &Bundle,
+    opts: &DiagnoseOptions,
+    exec: &mut dyn FeExecutor,
+    quiet: bool,
+) -> Result<Diagnosis> {
     let bar = progress_bar(quiet);
-    let d = diagnose_with(&bundle, opts, &mut exec, &mut |stage, done, planned| {
+    let d = diagnose_with(bundle, opts, exec, &mut |stage, done, planned| {
         bar.set_message(stage.to_string());
         bar.set_length(planned as u64);
         bar.set_position(done as u64);
     })?;
     bar.finish_and_clear();
+    Ok(d)
+}
+
+/// Writes `diagnosis.json` and `report.html` to `out`; returns the verdict and the report's path.
+fn write_diagnosis(
+    out: &Path,
+    bundle: &Bundle,
+    d: &Diagnosis,
+    resampled: &[Decimated],
+) -> Result<(VerdictJson, PathBuf)> {
     let ids: Vec<String> = bundle.manifest.runs.iter().map(|r| r.id.clone()).collect();
-    let symptoms = evidence(&bundle, &d);
-    let v = verdict(&d, &ids).with_symptoms(&symptoms);
+    let symptoms = evidence(bundle, d);
+    let v = verdict(d, &ids).with_symptoms(&symptoms);
     let json = out.join("diagnosis.json");
     std::fs::write(&json, serde_json::to_string_pretty(&v)?)
         .with_context(|| format!("writing {}", json.display()))?;
     let report = out.join("report.html");
-    let html = coordinator::diagnose::report::render(&bundle, &d, &symptoms, &resampled);
+    let html = coordinator::diagnose::report::render(bundle, d, &symptoms, resampled);
     std::fs::write(&report, html).with_context(|| format!("writing {}", report.display()))?;
+    Ok((v, report))
+}
+
+/// Prints the cause named and any warning that it is unconfirmed or leaves runs unexplained.
+fn print_verdict(v: &VerdictJson, d: &Diagnosis) {
     eprintln!(
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",
         v.cause, v.gain, v.baseline_validation_error, v.extended_validation_error, v.fe_points
     );
-    if coordinator::diagnose::report::unconfirmed_note(&d).is_some() {
+    if coordinator::diagnose::report::unconfirmed_note(d).is_some() {
         eprintln!(
             "warning: {} predicts the validation runs no better than the baseline: the cause \
              is not confirmed (see the report's verdict)",
             v.cause
         );
     }
-    if coordinator::diagnose::report::unexplained_note(&d).is_some() {
+    if coordinator::diagnose::report::unexplained_note(d).is_some() {
         eprintln!(
             "warning: no extension fits the calibration runs better, but the baseline misses \
              the validation runs by {:.3} in excess of the noise: they show something the \
@@ -164,19 +206,20 @@ pub fn diagnose_dir(
             v.baseline_validation_error
         );
     }
-    if let Some(store) = &plan.store {
-        eprintln!(
-            "store: {} ({} FE evaluations run now on {} {} workers, {} re-used; {} run \
-             simulations stored now)",
-            store.display(),
-            exec.simulated(),
-            plan.workers,
-            plan.transport.as_str(),
-            exec.reused(),
-            exec.tasks_run()
-        );
-    }
-    Ok(report)
+}
+
+/// Prints the evaluation store and the FE evaluations run now and re-used from it.
+fn print_store_use(store: &Path, plan: &FarmPlan, exec: &FarmExecutor) {
+    eprintln!(
+        "store: {} ({} FE evaluations run now on {} {} workers, {} re-used; {} run \
+         simulations stored now)",
+        store.display(),
+        exec.simulated(),
+        plan.workers,
+        plan.transport.as_str(),
+        exec.reused(),
+        exec.tasks_run()
+    );
 }
 
 /// The progress bar of the calibration stages (hidden when `quiet`).

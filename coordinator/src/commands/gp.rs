@@ -222,51 +222,14 @@ fn fit_output(
     Ok((gp, report))
 }
 
+/// Runs `ceilfarm gp fit`: reads the data, fits each output, writes the model file.
 fn fit_cmd(a: FitArgs) -> anyhow::Result<()> {
-    let (table, source) = match (&a.train, &a.store) {
-        (Some(p), None) => (read_table(p)?, p.clone()),
-        (None, Some(s)) => (store_table(s)?, s.clone()),
-        _ => bail!("give a training CSV or --store"),
-    };
-    let inputs = match (&a.store, a.inputs.is_empty()) {
-        (_, false) => a.inputs.clone(),
-        (Some(s), true) => coordinator::store::Store::open(s)?.parameter_names()?,
-        (None, true) => bail!("--inputs is required with a CSV file"),
-    };
+    let (table, source) = training_table(&a)?;
+    let inputs = input_columns(&a)?;
     let mean = MeanKind::parse(&a.mean)
         .with_context(|| format!("--mean {}: expected zero, constant or linear", a.mean))?;
     let d = inputs.len();
-    let xall = table.select(&inputs, &source)?;
-    let yalls = a
-        .outputs
-        .iter()
-        .map(|name| table.select(std::slice::from_ref(name), &source))
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    let complete = |i: usize, outs: &[&Vec<f64>]| {
-        outs.iter().all(|y| y[i].is_finite())
-            && xall[i * d..(i + 1) * d].iter().all(|v| v.is_finite())
-    };
-    let rows_of = |outs: &[&Vec<f64>]| -> Vec<usize> {
-        (0..table.rows.len()).filter(|&i| complete(i, outs)).collect()
-    };
-    let mut cols = Vec::new();
-    for (name, yall) in a.outputs.iter().zip(&yalls) {
-        let keep = if a.shared_kernel {
-            rows_of(&yalls.iter().collect::<Vec<_>>())
-        } else {
-            rows_of(&[yall])
-        };
-        if keep.len() < 2 {
-            bail!(
-                "{}: output {name}: {} complete rows, need at least 2",
-                source.display(),
-                keep.len()
-            );
-        }
-        let x: Vec<f64> = keep.iter().flat_map(|&i| xall[i * d..(i + 1) * d].to_vec()).collect();
-        let y: Vec<f64> = keep.iter().map(|&i| yall[i]).collect();
-        cols.push((name.clone(), x, y));
-    }
+    let cols = training_columns(&table, &source, &inputs, &a.outputs, a.shared_kernel)?;
     let base = GpSettings {
         mean,
         restarts: a.restarts,
@@ -289,30 +252,99 @@ fn fit_cmd(a: FitArgs) -> anyhow::Result<()> {
         outputs,
     };
     for o in &file.outputs {
-        let g = &o.gp;
-        let warps: Vec<String> = g
-            .warp
-            .inputs
-            .iter()
-            .map(|w| w.map_or("-".into(), |p| format!("{:.2}", p.lambda)))
-            .collect();
-        eprintln!(
-            "{}: kernel {} lml {:.3} noise var {:.3e} lengths [{}] warp exponents [{}] ({} starts, {} evaluations)",
-            o.name,
-            g.kernel.kind.name(),
-            g.report.lml,
-            g.noise_var,
-            g.kernel.lengths.iter().map(|l| format!("{l:.3}")).collect::<Vec<_>>().join(", "),
-            warps.join(", "),
-            g.report.starts,
-            g.report.evaluations
-        );
+        log_output_fit(o);
     }
     let text = serde_json::to_string_pretty(&file)?;
     std::fs::write(&a.out, text).with_context(|| format!("{}: cannot write", a.out.display()))?;
     Ok(())
 }
 
+/// The training table (the CSV file or the store's done runs) and its path.
+fn training_table(a: &FitArgs) -> anyhow::Result<(Table, PathBuf)> {
+    Ok(match (&a.train, &a.store) {
+        (Some(p), None) => (read_table(p)?, p.clone()),
+        (None, Some(s)) => (store_table(s)?, s.clone()),
+        _ => bail!("give a training CSV or --store"),
+    })
+}
+
+/// The input columns: `--inputs`, or else every parameter of the store.
+fn input_columns(a: &FitArgs) -> anyhow::Result<Vec<String>> {
+    Ok(match (&a.store, a.inputs.is_empty()) {
+        (_, false) => a.inputs.clone(),
+        (Some(s), true) => coordinator::store::Store::open(s)?.parameter_names()?,
+        (None, true) => bail!("--inputs is required with a CSV file"),
+    })
+}
+
+/// Each output's training data over its complete rows (`shared`: complete in every output).
+fn training_columns(
+    table: &Table,
+    source: &Path,
+    inputs: &[String],
+    outputs: &[String],
+    shared: bool,
+) -> anyhow::Result<Vec<Column>> {
+    let d = inputs.len();
+    let xall = table.select(inputs, source)?;
+    let yalls = outputs
+        .iter()
+        .map(|name| table.select(std::slice::from_ref(name), source))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let n_rows = table.rows.len();
+    let mut cols = Vec::new();
+    for (name, yall) in outputs.iter().zip(&yalls) {
+        let keep = if shared {
+            complete_rows(&xall, d, n_rows, &yalls.iter().collect::<Vec<_>>())
+        } else {
+            complete_rows(&xall, d, n_rows, &[yall])
+        };
+        if keep.len() < 2 {
+            bail!(
+                "{}: output {name}: {} complete rows, need at least 2",
+                source.display(),
+                keep.len()
+            );
+        }
+        let x: Vec<f64> = keep.iter().flat_map(|&i| xall[i * d..(i + 1) * d].to_vec()).collect();
+        let y: Vec<f64> = keep.iter().map(|&i| yall[i]).collect();
+        cols.push((name.clone(), x, y));
+    }
+    Ok(cols)
+}
+
+/// Rows (of `n_rows`) whose inputs `xall` (n, d) and every output of `outs` are finite.
+fn complete_rows(xall: &[f64], d: usize, n_rows: usize, outs: &[&Vec<f64>]) -> Vec<usize> {
+    let complete = |i: usize| {
+        outs.iter().all(|y| y[i].is_finite())
+            && xall[i * d..(i + 1) * d].iter().all(|v| v.is_finite())
+    };
+    (0..n_rows).filter(|&i| complete(i)).collect()
+}
+
+/// Logs a fitted output: kernel, LML, noise, lengths, warps and the optimiser's work.
+fn log_output_fit(o: &OutputModel) {
+    let g = &o.gp;
+    let warps: Vec<String> = g
+        .warp
+        .inputs
+        .iter()
+        .map(|w| w.map_or("-".into(), |p| format!("{:.2}", p.lambda)))
+        .collect();
+    eprintln!(
+        "{}: kernel {} lml {:.3} noise var {:.3e} lengths [{}] warp exponents [{}] ({} starts, {} evaluations)",
+        o.name,
+        g.kernel.kind.name(),
+        g.report.lml,
+        g.noise_var,
+        g.kernel.lengths.iter().map(|l| format!("{l:.3}")).collect::<Vec<_>>().join(", "),
+        warps.join(", "),
+        g.report.starts,
+        g.report.evaluations
+    );
+}
+
+/// One output's training data: name, x (n, d) row-major, y (n).
 type Column = (String, Vec<f64>, Vec<f64>);
 
 /// Independent GPs, one per output, fitted in parallel threads.

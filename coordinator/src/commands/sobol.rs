@@ -110,23 +110,12 @@ fn emulator(a: &Args) -> anyhow::Result<(Problem, Evaluator, String)> {
 
 /// Runs `ceilfarm sobol`.
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let fo = match a.first_order.as_str() {
-        "saltelli2010" => FirstOrder::Saltelli2010,
-        "jansen" => FirstOrder::Jansen,
-        other => bail!("--first-order {other}: expected saltelli2010 or jansen"),
-    };
+    let fo = first_order(&a.first_order)?;
     if a.n < 2 {
         bail!("--n {}: expected at least 2", a.n);
     }
     let (problem, eval, source): (Problem, Evaluator, String) = match &a.function {
-        Some(name) => {
-            let p = functions::problem(name).with_context(|| {
-                format!("--function {name}: expected ishigami, sobol-g or borehole")
-            })?;
-            let f = functions::function(name).expect("function of a known problem");
-            let d = p.dim();
-            (p, Box::new(move |x: &[f64]| x.chunks(d).map(f).collect()), format!("function {name}"))
-        }
+        Some(name) => analytic(name)?,
         None => emulator(&a)?,
     };
     let d = problem.dim();
@@ -156,20 +145,43 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if a.json {
         println!("{}", serde_json::to_string(&report)?);
     } else {
-        println!("{:<14} {:>9} {:>9} {:>9} {:>9}", "input", "S1", "S1_conf", "ST", "ST_conf");
-        for i in 0..d {
-            println!(
-                "{:<14} {:>9.4} {:>9.4} {:>9.4} {:>9.4}",
-                report.names[i], report.s1[i], report.s1_conf[i], report.st[i], report.st_conf[i]
-            );
-        }
-        println!(
-            "{} runs ({}); drop (ST < {}): {}",
-            report.runs,
-            report.source,
-            a.threshold,
-            report.screening.drop.join(", ")
-        );
+        print_table(&report, d, a.threshold);
     }
     Ok(())
+}
+
+/// The first-order estimator named by `--first-order`.
+fn first_order(name: &str) -> anyhow::Result<FirstOrder> {
+    Ok(match name {
+        "saltelli2010" => FirstOrder::Saltelli2010,
+        "jansen" => FirstOrder::Jansen,
+        other => bail!("--first-order {other}: expected saltelli2010 or jansen"),
+    })
+}
+
+/// Problem and evaluator of the analytic model `name` (ishigami, sobol-g or borehole).
+fn analytic(name: &str) -> anyhow::Result<(Problem, Evaluator, String)> {
+    let p = functions::problem(name)
+        .with_context(|| format!("--function {name}: expected ishigami, sobol-g or borehole"))?;
+    let f = functions::function(name).expect("function of a known problem");
+    let d = p.dim();
+    Ok((p, Box::new(move |x: &[f64]| x.chunks(d).map(f).collect()), format!("function {name}")))
+}
+
+/// Prints the indices of the `d` inputs as a table, then the runs and the inputs screened out.
+fn print_table(report: &Report, d: usize, threshold: f64) {
+    println!("{:<14} {:>9} {:>9} {:>9} {:>9}", "input", "S1", "S1_conf", "ST", "ST_conf");
+    for i in 0..d {
+        println!(
+            "{:<14} {:>9.4} {:>9.4} {:>9.4} {:>9.4}",
+            report.names[i], report.s1[i], report.s1_conf[i], report.st[i], report.st_conf[i]
+        );
+    }
+    println!(
+        "{} runs ({}); drop (ST < {}): {}",
+        report.runs,
+        report.source,
+        threshold,
+        report.screening.drop.join(", ")
+    );
 }
