@@ -114,10 +114,34 @@ pub fn read_run_history(
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
     let header: Vec<&str> =
         lines.next().map(|(_, l)| l.split(',').map(str::trim).collect()).unwrap_or_default();
-    let names: Vec<String> =
-        prep.recorders.iter().map(|r| r.name.clone().unwrap_or_default()).collect();
+    let names = recorder_names(prep);
+    let idx = recorder_columns(&path, run_id, &header, &names)?;
+    let layout = HistoryLayout { path: &path, header, idx, dt: prep.input_dt_s };
+    let mut rows = Vec::new();
+    for (k, line) in lines {
+        let row = layout.row(k + 1, line, rows.len())?;
+        rows.push(row);
+    }
+    check_row_count(&path, rows.len(), prep.output_rows(), layout.dt)?;
+    let mut columns = vec!["t_s".to_string()];
+    columns.extend(names);
+    Ok(History { columns, rows })
+}
+
+/// The run's recorder names in order (empty for an unnamed recorder).
+fn recorder_names(prep: &PreparedRun) -> Vec<String> {
+    prep.recorders.iter().map(|r| r.name.clone().unwrap_or_default()).collect()
+}
+
+/// The header positions of the recorder columns `names`, after a first `t_s`.
+fn recorder_columns(
+    path: &Path,
+    run_id: &str,
+    header: &[&str],
+    names: &[String],
+) -> Result<Vec<usize>, HistoryError> {
     let missing = |column: &str| HistoryError::MissingColumn {
-        path: path.clone(),
+        path: path.to_path_buf(),
         column: column.into(),
         model: format!("{run_id}.json"),
         expected: format!("{} recorder columns: {}", names.len(), names.join(", ")),
@@ -125,59 +149,80 @@ pub fn read_run_history(
     if header.first() != Some(&"t_s") {
         return Err(missing("t_s"));
     }
-    let idx: Vec<usize> = names
-        .iter()
-        .map(|n| header.iter().position(|h| h == n).ok_or_else(|| missing(n)))
-        .collect::<Result<_, _>>()?;
-    let dt = prep.input_dt_s;
-    let mut rows = Vec::new();
-    for (k, line) in lines {
-        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-        let value = |c: usize| -> Result<f64, HistoryError> {
-            let bad = |message: String| HistoryError::Value {
-                path: path.clone(),
-                line: k + 1,
-                column: header.get(c).map_or(String::new(), |h| h.to_string()),
-                message,
-            };
-            let s = cells
-                .get(c)
-                .ok_or_else(|| bad(format!("{} cells, expected {}", cells.len(), header.len())))?;
-            let v: f64 = s.parse().map_err(|_| bad(format!("{s:?} is not a number")))?;
-            if !v.is_finite() {
-                return Err(bad(format!("{s}: expected a finite number")));
-            }
-            Ok(v)
-        };
-        let t = value(0)?;
-        let want = rows.len() as f64 * dt;
+    names.iter().map(|n| header.iter().position(|h| h == n).ok_or_else(|| missing(n))).collect()
+}
+
+/// Where a history file's columns are and the time grid (step `dt` s) its rows follow.
+struct HistoryLayout<'a> {
+    /// The file.
+    path: &'a Path,
+    /// Header cells, trimmed.
+    header: Vec<&'a str>,
+    /// Header positions of the recorder columns.
+    idx: Vec<usize>,
+    /// Input sample interval (s).
+    dt: f64,
+}
+
+impl HistoryLayout<'_> {
+    /// Row number `row` (0-based) from file line `line` (1-based): `t`, then the recorders.
+    fn row(&self, line: usize, text: &str, row: usize) -> Result<Vec<f64>, HistoryError> {
+        let cells: Vec<&str> = text.split(',').map(str::trim).collect();
+        let t = self.value(line, &cells, 0)?;
+        self.check_time(line, t, row)?;
+        let mut values = vec![t];
+        for c in &self.idx {
+            values.push(self.value(line, &cells, *c)?);
+        }
+        Ok(values)
+    }
+
+    /// Refuses a time `t` (s) off the grid point of row `row`.
+    fn check_time(&self, line: usize, t: f64, row: usize) -> Result<(), HistoryError> {
+        let dt = self.dt;
+        let want = row as f64 * dt;
         if (t - want).abs() > 1e-6 * dt.max(want.abs() * 1e-3) + 1e-9 {
             return Err(HistoryError::Value {
-                path,
-                line: k + 1,
+                path: self.path.to_path_buf(),
+                line,
                 column: "t_s".into(),
-                message: format!("t = {t} s, expected {want} s (row {} at {dt} s)", rows.len()),
+                message: format!("t = {t} s, expected {want} s (row {row} at {dt} s)"),
             });
         }
-        let mut row = vec![t];
-        for c in &idx {
-            row.push(value(*c)?);
-        }
-        rows.push(row);
+        Ok(())
     }
-    let expected = prep.output_rows();
-    if rows.len() != expected {
+
+    /// The finite number in header column `c` of a line's `cells`.
+    fn value(&self, line: usize, cells: &[&str], c: usize) -> Result<f64, HistoryError> {
+        let bad = |message: String| HistoryError::Value {
+            path: self.path.to_path_buf(),
+            line,
+            column: self.header.get(c).map_or(String::new(), |h| h.to_string()),
+            message,
+        };
+        let s = cells
+            .get(c)
+            .ok_or_else(|| bad(format!("{} cells, expected {}", cells.len(), self.header.len())))?;
+        let v: f64 = s.parse().map_err(|_| bad(format!("{s:?} is not a number")))?;
+        if !v.is_finite() {
+            return Err(bad(format!("{s}: expected a finite number")));
+        }
+        Ok(v)
+    }
+}
+
+/// Refuses a history of `rows` rows when the run has `expected` (step `dt` s).
+fn check_row_count(path: &Path, rows: usize, expected: usize, dt: f64) -> Result<(), HistoryError> {
+    if rows != expected {
         return Err(HistoryError::Rows {
-            path,
-            rows: rows.len(),
+            path: path.to_path_buf(),
+            rows,
             expected,
             end_s: (expected - 1) as f64 * dt,
             dt_s: dt,
         });
     }
-    let mut columns = vec!["t_s".to_string()];
-    columns.extend(names);
-    Ok(History { columns, rows })
+    Ok(())
 }
 
 /// The simulator's lowest `modes` frequencies (Hz) from `dir/modal.json`.

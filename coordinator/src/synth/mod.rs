@@ -136,56 +136,15 @@ pub fn synthesize_with(
     simulator: Simulator<'_>,
     observer: &mut dyn FnMut(&str),
 ) -> Result<(Bundle, Answer), SynthError> {
-    let cause = match spec.hidden.effect.as_deref() {
-        None => Cause::None,
-        Some(e) => Cause::parse(e).ok_or_else(|| SynthError::Effect(e.into()))?,
-    };
-    let boundary = spec.structure.boundary;
-    if !cause.has_place(boundary) {
-        return Err(SynthError::NoPlace { effect: cause.as_str(), boundary: boundary.as_str() });
-    }
-    let inputs = spec
-        .runs
-        .iter()
-        .enumerate()
-        .map(|(k, r)| input::build_input(r, spec.seed.wrapping_add(1000 + k as u64), base_dir))
-        .collect::<Result<Vec<_>, _>>()?;
-    let base_inputs: Vec<BaseInput> = spec
-        .runs
-        .iter()
-        .zip(&inputs)
-        .map(|(r, (a, dt))| split(r.direction, *dt, a.clone(), a.clone()))
-        .collect();
+    let cause = hidden_cause(spec)?;
+    let (inputs, base_inputs) = run_inputs(spec, base_dir)?;
     let truth_spec = fe_spec(&spec.structure, cause.model_options())?;
     let mut params = truth_parameters(spec, &truth_spec, cause)?;
-    let mut demand = None;
-    let needs_demand =
-        cause.model_parameter_names().iter().any(|p| !spec.hidden.parameters.contains_key(*p));
-    if cause != Cause::None && needs_demand {
-        observer("baseline runs to size the hidden effect");
-        let baseline = fe_spec(&spec.structure, Cause::None.model_options())?;
-        let p = shared_parameters(&baseline, &params)?;
-        demand = Some(baseline_demand(spec, &baseline, &p, &base_inputs)?);
-    }
-    let effect = effect_values(spec, cause, demand);
-    for (name, v) in &effect {
-        params.set(name, *v).map_err(|e| SynthError::Parameter {
-            key: format!("hidden.parameters.{name}"),
-            message: e.to_string(),
-        })?;
-    }
+    let demand = effect_demand(spec, cause, &params, &base_inputs, observer)?;
+    set_effect(&mut params, effect_values(spec, cause, demand))?;
     let (runs, freq_hz) =
         simulate_runs(spec, &truth_spec, &params, &inputs, &base_inputs, simulator, observer)?;
-    let (simulator_name, freq_hz) = match simulator {
-        Simulator::Ceilfarm { .. } => ("ceilfarm".to_string(), freq_hz),
-        Simulator::Histories(dir) => {
-            let name = histories::read_simulator(dir)?;
-            match &spec.modal {
-                Some(m) => (name, histories::read_modal(dir, m.modes)?),
-                None => (name, freq_hz),
-            }
-        }
-    };
+    let (simulator_name, freq_hz) = simulator_results(spec, simulator, freq_hz)?;
     let bundle = assemble(spec, runs, modal(spec, &freq_hz));
     let answer = Answer {
         format: "ceiling-synth-answer/1".into(),
@@ -199,6 +158,87 @@ pub fn synthesize_with(
         simulator: simulator_name,
     };
     Ok((bundle, answer))
+}
+
+/// The hidden effect of `hidden.effect`, refused where it has no place on the perimeter.
+fn hidden_cause(spec: &SynthSpec) -> Result<Cause, SynthError> {
+    let cause = match spec.hidden.effect.as_deref() {
+        None => Cause::None,
+        Some(e) => Cause::parse(e).ok_or_else(|| SynthError::Effect(e.into()))?,
+    };
+    let boundary = spec.structure.boundary;
+    if !cause.has_place(boundary) {
+        return Err(SynthError::NoPlace { effect: cause.as_str(), boundary: boundary.as_str() });
+    }
+    Ok(cause)
+}
+
+/// Each run's input samples (m/s²) and their step (s).
+type Inputs = Vec<(Vec<f64>, f64)>;
+
+/// Every run's input samples (m/s²) and step (s), and the base input built from them.
+fn run_inputs(spec: &SynthSpec, base_dir: &Path) -> Result<(Inputs, Vec<BaseInput>), SynthError> {
+    let inputs = spec
+        .runs
+        .iter()
+        .enumerate()
+        .map(|(k, r)| input::build_input(r, spec.seed.wrapping_add(1000 + k as u64), base_dir))
+        .collect::<Result<Vec<_>, _>>()?;
+    let base_inputs: Vec<BaseInput> = spec
+        .runs
+        .iter()
+        .zip(&inputs)
+        .map(|(r, (a, dt))| split(r.direction, *dt, a.clone(), a.clone()))
+        .collect();
+    Ok((inputs, base_inputs))
+}
+
+/// The baseline demand sizing the hidden effect, if a parameter of it is not given.
+fn effect_demand(
+    spec: &SynthSpec,
+    cause: Cause,
+    params: &Parameters,
+    base_inputs: &[BaseInput],
+    observer: &mut dyn FnMut(&str),
+) -> Result<Option<[f64; 3]>, SynthError> {
+    let needs_demand =
+        cause.model_parameter_names().iter().any(|p| !spec.hidden.parameters.contains_key(*p));
+    if cause == Cause::None || !needs_demand {
+        return Ok(None);
+    }
+    observer("baseline runs to size the hidden effect");
+    let baseline = fe_spec(&spec.structure, Cause::None.model_options())?;
+    let p = shared_parameters(&baseline, params)?;
+    Ok(Some(baseline_demand(spec, &baseline, &p, base_inputs)?))
+}
+
+/// Sets the hidden effect's parameter values (`hidden.parameters.NAME`).
+fn set_effect(params: &mut Parameters, effect: BTreeMap<String, f64>) -> Result<(), SynthError> {
+    for (name, v) in &effect {
+        params.set(name, *v).map_err(|e| SynthError::Parameter {
+            key: format!("hidden.parameters.{name}"),
+            message: e.to_string(),
+        })?;
+    }
+    Ok(())
+}
+
+/// The simulator's name and the true frequencies (Hz): ceilfarm's, or its `modal.json`.
+fn simulator_results(
+    spec: &SynthSpec,
+    simulator: Simulator<'_>,
+    freq_hz: Vec<f64>,
+) -> Result<(String, Vec<f64>), SynthError> {
+    Ok(match simulator {
+        Simulator::Ceilfarm { .. } => ("ceilfarm".to_string(), freq_hz),
+        Simulator::Histories(dir) => {
+            let name = histories::read_simulator(dir)?;
+            match &spec.modal {
+                Some(m) => (name, histories::read_modal(dir, m.modes)?),
+                None => (name, freq_hz),
+            }
+        }
+    })
 }
 
 /// Mid-points of the variant's priors overridden by `truth.parameters`.

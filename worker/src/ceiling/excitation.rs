@@ -269,66 +269,81 @@ pub fn read_record(
         return err("file", "the record is empty: expected a header line and samples".into());
     };
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let pick = |key: &str,
-                name: &Option<String>,
-                default: usize|
-     -> Result<usize, ExcitationError> {
-        match name {
-            Some(n) => names.iter().position(|h| h == n).map_or_else(
-                || {
-                    err(
-                        key,
-                        format!("no column `{n}` in the record (columns: {})", names.join(", ")),
-                    )
-                },
-                Ok,
-            ),
-            None if default < names.len() => Ok(default),
-            None => err(
-                "file",
-                format!(
-                    "the record has {} columns: expected at least {}",
-                    names.len(),
-                    default + 1
-                ),
-            ),
-        }
-    };
-    let (ix, iy) = match cols.direction {
-        Shaking::X => (Some(pick("column_x", cols.x, 1)?), None),
-        Shaking::Y => (None, Some(pick("column_y", cols.y, 1)?)),
-        Shaking::Xy => (Some(pick("column_x", cols.x, 1)?), Some(pick("column_y", cols.y, 2)?)),
-    };
+    let (ix, iy) = component_columns(&names, cols)?;
     let (mut t, mut x, mut y) = (Vec::new(), Vec::new(), Vec::new());
     for (line, row) in lines {
-        let fields: Vec<&str> = row.split(',').map(str::trim).collect();
-        if fields.len() != names.len() {
-            return err(
-                "file",
-                format!("line {line}: {} fields, expected {}", fields.len(), names.len()),
-            );
-        }
-        let num = |i: usize| -> Result<f64, ExcitationError> {
-            match fields[i].parse::<f64>() {
-                Ok(v) if v.is_finite() => Ok(v),
-                _ => err(
-                    "file",
-                    format!(
-                        "line {line}, column `{}`: {:?} is not a finite number",
-                        names[i], fields[i]
-                    ),
-                ),
-            }
-        };
-        t.push(num(0)?);
+        let fields = record_fields(line, row, names.len())?;
+        t.push(record_number(&names, &fields, line, 0)?);
         if let Some(i) = ix {
-            x.push(num(i)?);
+            x.push(record_number(&names, &fields, line, i)?);
         }
         if let Some(i) = iy {
-            y.push(num(i)?);
+            y.push(record_number(&names, &fields, line, i)?);
         }
     }
     Ok((uniform_step(&t)?, x, y))
+}
+
+/// The header positions of the x and y columns that `cols.direction` uses.
+fn component_columns(
+    names: &[&str],
+    cols: &Columns<'_>,
+) -> Result<(Option<usize>, Option<usize>), ExcitationError> {
+    Ok(match cols.direction {
+        Shaking::X => (Some(column_index(names, "column_x", cols.x, 1)?), None),
+        Shaking::Y => (None, Some(column_index(names, "column_y", cols.y, 1)?)),
+        Shaking::Xy => (
+            Some(column_index(names, "column_x", cols.x, 1)?),
+            Some(column_index(names, "column_y", cols.y, 2)?),
+        ),
+    })
+}
+
+/// The position of column `name` (option `key`) in `names`, else the `default` position.
+fn column_index(
+    names: &[&str],
+    key: &str,
+    name: &Option<String>,
+    default: usize,
+) -> Result<usize, ExcitationError> {
+    match name {
+        Some(n) => match names.iter().position(|h| h == n) {
+            Some(i) => Ok(i),
+            None => {
+                err(key, format!("no column `{n}` in the record (columns: {})", names.join(", ")))
+            }
+        },
+        None if default < names.len() => Ok(default),
+        None => err(
+            "file",
+            format!("the record has {} columns: expected at least {}", names.len(), default + 1),
+        ),
+    }
+}
+
+/// The trimmed fields of record line `line`, refused unless there are `expected`.
+fn record_fields(line: usize, row: &str, expected: usize) -> Result<Vec<&str>, ExcitationError> {
+    let fields: Vec<&str> = row.split(',').map(str::trim).collect();
+    if fields.len() != expected {
+        return err("file", format!("line {line}: {} fields, expected {expected}", fields.len()));
+    }
+    Ok(fields)
+}
+
+/// The finite number in field `i` of record line `line` (columns `names`).
+fn record_number(
+    names: &[&str],
+    fields: &[&str],
+    line: usize,
+    i: usize,
+) -> Result<f64, ExcitationError> {
+    match fields[i].parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => err(
+            "file",
+            format!("line {line}, column `{}`: {:?} is not a finite number", names[i], fields[i]),
+        ),
+    }
 }
 
 /// The sampling step of a strictly increasing, uniform time column.
