@@ -461,9 +461,7 @@ impl Dynamics<'_> {
         trial.u.iter_mut().zip(&committed.u).zip(&st.r0).for_each(|((u, un), r)| *u = un + r);
         let e: Vec<f64> = st.at_start.g.iter().zip(ghat).map(|(a, b)| a - b).collect();
         add_columns(&c.bases[st.bi].z, n, &e, &mut trial.u);
-        springs.set_trial(self.structure(), &trial.u).map_err(NewtonFailure::Material)?;
-        trial.follow_displacements(nm, committed);
-        Ok(())
+        self.set_trial_state(nm, committed, trial, springs)
     }
 }
 

@@ -463,7 +463,7 @@ impl<'a> Dynamics<'a> {
 
     /// Sets every spring at `trial.u`, then the trial velocities and
     /// accelerations from `committed` (Newmark's update).
-    fn set_trial_state(
+    pub(super) fn set_trial_state(
         &self,
         nm: &NewmarkConstants,
         committed: &Kinematics,
