@@ -5,7 +5,8 @@
 //!
 //! Parameters are the names of `fe::generator::parameters_for` the specimen's
 //! model variant (seed Table 6.1 and the variant's extensions; mm², MPa, mm⁴,
-//! N/mm, N) plus `damping_ratio` (Rayleigh on the first x and y modes);
+//! N/mm, N) plus `damping_ratio` (Rayleigh on the first x and y modes) and
+//! `damping_mass_share` (its share on the mass term, 0.5 by default);
 //! those not in the study sit at their prior mid-points unless `fixed` sets
 //! them.
 //!
@@ -38,6 +39,37 @@ const KIND: &str = "ceiling";
 
 /// The study parameter that sets the Rayleigh damping ratio.
 pub const DAMPING_RATIO: &str = "damping_ratio";
+/// The study parameter that sets the damping's share on the mass term
+/// (`fe::ceiling::SimOptions::damping_mass_share`; 0.5 unless studied).
+pub const DAMPING_MASS_SHARE: &str = "damping_mass_share";
+/// The hint that error messages about unknown parameter names end with.
+pub(crate) const SOLVER_HINT: &str = " (or `damping_ratio`, the Rayleigh damping ratio, or \
+                                       `damping_mass_share`, its share on the mass term)";
+
+/// Sets `name` on `opts` when it is a solver parameter (`Some`, with the
+/// check's verdict), `None` when it is a model parameter.
+pub(crate) fn set_solver_parameter(
+    opts: &mut SimOptions,
+    name: &str,
+    value: f64,
+) -> Option<Result<(), String>> {
+    match name {
+        DAMPING_RATIO => Some(check_damping(value).map(|()| opts.damping_ratio = value)),
+        DAMPING_MASS_SHARE => Some(if (0.0..=1.0).contains(&value) {
+            opts.damping_mass_share = value;
+            Ok(())
+        } else {
+            Err(format!("{value}: expected 0 <= share <= 1"))
+        }),
+        _ => None,
+    }
+    .map(|r| r.map_err(|m| format!("{name} = {m}")))
+}
+
+/// Whether `name` is a solver parameter rather than a model's.
+pub(crate) fn is_solver_parameter(name: &str) -> bool {
+    name == DAMPING_RATIO || name == DAMPING_MASS_SHARE
+}
 
 /// `[model]` options of `ceiling`.
 #[derive(Debug, Deserialize)]
@@ -97,9 +129,9 @@ impl Ceiling {
     /// every parameter name against the specimen's model variant.
     pub fn new(opts: CeilingOptions, names: &[String]) -> Result<Self, ModelError> {
         let spec = read_spec(&opts.spec, &opts.spec_toml).map_err(invalid)?;
-        let study_names = names.iter().filter(|n| *n != DAMPING_RATIO);
-        let hint = format!(" (or `{DAMPING_RATIO}`, the Rayleigh damping ratio)");
-        let base = base_parameters(&spec, &opts.fixed, study_names, &hint).map_err(invalid)?;
+        let study_names = names.iter().filter(|n| !is_solver_parameter(n));
+        let base =
+            base_parameters(&spec, &opts.fixed, study_names, SOLVER_HINT).map_err(invalid)?;
         if opts.n_modes == 0 {
             return Err(invalid("n_modes = 0: expected at least 1".into()));
         }
@@ -119,9 +151,7 @@ impl Ceiling {
             damping_ratio: opts.damping_ratio,
             n_modes: opts.n_modes,
             substeps: opts.substeps,
-            max_step_s: None,
-            spring_groups: vec![],
-            rayleigh_groups: vec![],
+            ..SimOptions::default()
         };
         Ok(Self { spec, base, input, sensors, opts: sim })
     }
@@ -191,12 +221,9 @@ impl Model for Ceiling {
         let mut p = self.base.clone();
         let mut opts = self.opts.clone();
         for (name, value) in params.iter() {
-            if name == DAMPING_RATIO {
-                check_damping(value)
-                    .map_err(|m| RunError::Input(format!("{DAMPING_RATIO} = {m}")))?;
-                opts.damping_ratio = value;
-            } else {
-                p.set(name, value).map_err(|e| RunError::Input(e.to_string()))?;
+            match set_solver_parameter(&mut opts, name, value) {
+                Some(r) => r.map_err(RunError::Input)?,
+                None => p.set(name, value).map_err(|e| RunError::Input(e.to_string()))?,
             }
         }
         if ctx.cancelled() {

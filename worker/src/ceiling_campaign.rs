@@ -12,7 +12,7 @@
 //! text so that a worker reproduces the coordinator's numbers bit for bit.
 //!
 //! Parameters: the names of `fe::generator::parameters_for` the variant
-//! (mm², MPa, mm⁴, N/mm, N, -) plus `damping_ratio`; a name may repeat (the
+//! (mm², MPa, mm⁴, N/mm, N, -) plus `damping_ratio` and `damping_mass_share`; a name may repeat (the
 //! last value wins), the others sit at their prior mid-points. A study may
 //! also name `run_index` ([`RUN_INDEX`]): each task then simulates the one
 //! run of that (0-based) index, so that the runs of one parameter point
@@ -26,7 +26,8 @@
 //! variant has no spring in the group).
 
 use crate::ceiling::sensors::{id_ok, SensorOptions};
-use crate::ceiling::{check_damping, check_sensors, DAMPING_RATIO};
+use crate::ceiling::SOLVER_HINT;
+use crate::ceiling::{check_damping, check_sensors, is_solver_parameter, set_solver_parameter};
 use crate::exact_json::{f64_text, samples_hex};
 use crate::model::{Model, ModelError, ParamSet, RunContext, RunError};
 use crate::specimen::base_parameters;
@@ -126,9 +127,9 @@ impl CeilingCampaign {
     pub fn new(o: CampaignOptions, names: &[String]) -> Result<Self, ModelError> {
         let spec = CeilingSpec::from_toml_str(&o.spec_toml, Path::new("[model] spec_toml"))
             .map_err(|e| invalid(e.to_string()))?;
-        let study_names = names.iter().filter(|n| *n != DAMPING_RATIO && *n != RUN_INDEX);
-        let hint = format!(" (or `{DAMPING_RATIO}`, the Rayleigh damping ratio)");
-        let base = base_parameters(&spec, &BTreeMap::new(), study_names, &hint).map_err(invalid)?;
+        let study_names = names.iter().filter(|n| !is_solver_parameter(n) && *n != RUN_INDEX);
+        let base =
+            base_parameters(&spec, &BTreeMap::new(), study_names, SOLVER_HINT).map_err(invalid)?;
         check_damping(o.damping_ratio).map_err(|m| invalid(format!("damping_ratio = {m}")))?;
         check_groups("rayleigh_groups", &o.rayleigh_groups)?;
         check_groups("spring_groups", &o.spring_groups)?;
@@ -238,10 +239,8 @@ impl Model for CeilingCampaign {
         for (name, value) in params.iter() {
             if name == RUN_INDEX {
                 runs = std::slice::from_ref(self.run_at(value)?);
-            } else if name == DAMPING_RATIO {
-                check_damping(value)
-                    .map_err(|m| RunError::Input(format!("{DAMPING_RATIO} = {m}")))?;
-                opts.damping_ratio = value;
+            } else if let Some(r) = set_solver_parameter(&mut opts, name, value) {
+                r.map_err(RunError::Input)?;
             } else {
                 p.set(name, value).map_err(|e| RunError::Input(e.to_string()))?;
             }

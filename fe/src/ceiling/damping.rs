@@ -17,6 +17,19 @@ pub struct RayleighFit {
     pub fy_hz: f64,
 }
 
+impl RayleighFit {
+    /// The same damping split differently between mass and stiffness:
+    /// α and β scaled by 2·`mass_share` and 2·(1 − `mass_share`). The ratio
+    /// where the two anchors coincide is kept; 0.5 returns the fit itself.
+    pub fn with_mass_share(self, mass_share: f64) -> RayleighFit {
+        RayleighFit {
+            alpha_m_per_s: 2.0 * mass_share * self.alpha_m_per_s,
+            beta_k_s: 2.0 * (1.0 - mass_share) * self.beta_k_s,
+            ..self
+        }
+    }
+}
+
 /// α and β giving ratio `zeta` at frequencies `f1_hz` and `f2_hz`.
 pub fn rayleigh_coefficients(zeta: f64, f1_hz: f64, f2_hz: f64) -> (f64, f64) {
     let (w1, w2) = (2.0 * std::f64::consts::PI * f1_hz, 2.0 * std::f64::consts::PI * f2_hz);
@@ -57,5 +70,45 @@ mod tests {
         }
         let w = 2.0 * std::f64::consts::PI * 4.0;
         assert!(a / (2.0 * w) + b * w / 2.0 < 0.05);
+    }
+
+    fn ratio_at(fit: &RayleighFit, f_hz: f64) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * f_hz;
+        fit.alpha_m_per_s / (2.0 * w) + fit.beta_k_s * w / 2.0
+    }
+
+    fn fit_on(zeta: f64, fx_hz: f64, fy_hz: f64) -> RayleighFit {
+        let (alpha_m_per_s, beta_k_s) = rayleigh_coefficients(zeta, fx_hz, fy_hz);
+        RayleighFit { alpha_m_per_s, beta_k_s, fx_hz, fy_hz }
+    }
+
+    /// Share 0.5 is the fit itself, bit for bit; 1 and 0 leave one term.
+    #[test]
+    fn mass_share_bounds() {
+        let fit = fit_on(0.05, 2.3, 3.1);
+        assert_eq!(fit.with_mass_share(0.5), fit);
+        let mass = fit.with_mass_share(1.0);
+        assert_eq!((mass.beta_k_s, mass.alpha_m_per_s), (0.0, 2.0 * fit.alpha_m_per_s));
+        let stiff = fit.with_mass_share(0.0);
+        assert_eq!((stiff.alpha_m_per_s, stiff.beta_k_s), (0.0, 2.0 * fit.beta_k_s));
+    }
+
+    /// On one anchor frequency the ratio there is ζ for every share, and a
+    /// larger share damps the frequencies above it less and below it more.
+    #[test]
+    fn mass_share_keeps_the_anchor_ratio() {
+        for (zeta, f) in [(0.05, 2.0), (0.02, 7.5), (0.09, 0.8)] {
+            let fit = fit_on(zeta, f, f);
+            let mut last: Option<(f64, f64)> = None;
+            for share in [0.0, 0.1, 0.3, 0.5, 0.7, 0.95, 1.0] {
+                let s = fit.with_mass_share(share);
+                assert!((ratio_at(&s, f) - zeta).abs() < 1e-14 * zeta.max(1.0), "{share}");
+                let (hi, lo) = (ratio_at(&s, 4.0 * f), ratio_at(&s, 0.5 * f));
+                if let Some((h, l)) = last {
+                    assert!(hi < h && lo > l, "{share}: {hi} {lo} after {h} {l}");
+                }
+                last = Some((hi, lo));
+            }
+        }
     }
 }

@@ -87,7 +87,8 @@ pub fn prepare(
     }
     let (_, modal) = modal_analysis(&model, opts.n_modes.max(2), &LanczosSettings::default())?;
     let rayleigh = rayleigh_on_first_modes(&modal, opts.damping_ratio)
-        .ok_or_else(|| CeilingError::Input("no mode moves mass in x or y".into()))?;
+        .ok_or_else(|| CeilingError::Input("no mode moves mass in x or y".into()))?
+        .with_mass_share(opts.damping_mass_share);
     model.damping = Some(Damping {
         kind: "rayleigh".into(),
         alpha_m_per_s: rayleigh.alpha_m_per_s,
@@ -137,6 +138,10 @@ fn check(input: &BaseInput, opts: &SimOptions) -> Result<(), CeilingError> {
     }
     if !(opts.damping_ratio >= 0.0 && opts.damping_ratio < 1.0) {
         return bad(format!("damping_ratio = {}: expected 0 <= ratio < 1", opts.damping_ratio));
+    }
+    if !(0.0..=1.0).contains(&opts.damping_mass_share) {
+        let share = opts.damping_mass_share;
+        return bad(format!("damping_mass_share = {share}: expected 0 <= share <= 1"));
     }
     if opts.substeps == 0 {
         return bad("substeps = 0: expected >= 1".into());

@@ -16,6 +16,10 @@ use crate::transient::{run_plan, History, StepReport, TransientError, TransientO
 pub struct SimOptions {
     /// Rayleigh damping ratio on the first x and y modes (seed: 0.05).
     pub damping_ratio: f64,
+    /// Share of the damping carried by the mass term: α and β are 2·share
+    /// and 2·(1 − share) times the Rayleigh pair on the first modes (0.5:
+    /// that pair; 1: mass-proportional; 0: stiffness-proportional).
+    pub damping_mass_share: f64,
     /// Modes computed and reported.
     pub n_modes: usize,
     /// Integration steps per input sample (≥ 1).
@@ -36,6 +40,7 @@ impl Default for SimOptions {
     fn default() -> Self {
         SimOptions {
             damping_ratio: 0.05,
+            damping_mass_share: 0.5,
             n_modes: 6,
             substeps: 1,
             max_step_s: None,

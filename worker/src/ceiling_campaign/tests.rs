@@ -226,3 +226,41 @@ fn a_run_index_task_simulates_that_run_alone() {
         );
     }
 }
+
+/// `damping_mass_share` as a study parameter reaches the simulation (the
+/// histories are those of `SimOptions::damping_mass_share`, bit for bit, and
+/// differ from the default's); a share outside [0, 1] fails the task.
+#[test]
+fn the_damping_share_is_a_study_parameter() {
+    let o = options();
+    let names: Vec<String> = ["K_friction", "damping_ratio", "damping_mass_share"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let m = built_with(&o, names.clone()).unwrap();
+    let run = |share: f64| {
+        let values = [17.5, 0.05, share];
+        m.run(&ParamSet::new(&names, &values).unwrap(), &RunContext::default())
+    };
+    let spec = CeilingSpec::from_toml_str(&o.spec_toml, Path::new("t")).unwrap();
+    let mut p = Parameters::prior_midpoints_for(&spec);
+    p.set("K_friction", 17.5).unwrap();
+    let opts = SimOptions {
+        damping_mass_share: 0.9,
+        spring_groups: o.spring_groups.clone(),
+        rayleigh_groups: o.rayleigh_groups.clone(),
+        ..SimOptions::default()
+    };
+    let first = &o.runs[0];
+    let fe: Vec<_> = first.sensors.iter().map(SensorOptions::sensor).collect();
+    let sim = simulate(&spec, &p, &first.base_input(), &fe, &opts, &mut |_| {}).unwrap();
+    let (at_09, at_05) = (run(0.9).unwrap(), run(0.5).unwrap());
+    assert_eq!(at_09.histories[0].data, sim.sensors[0].values);
+    assert_ne!(at_09.histories[0].data, at_05.histories[0].data);
+    for bad in [-0.1, 1.5, f64::NAN] {
+        let r = run(bad);
+        let ok = matches!(&r, Err(RunError::Input(s)) if s.contains("damping_mass_share = ")
+            && s.contains("expected 0 <= share <= 1"));
+        assert!(ok, "{bad}: {r:?}");
+    }
+}
