@@ -26,6 +26,7 @@ use std::path::PathBuf;
 use crate::specimen::{base_parameters, read_spec};
 
 use fe::ceiling::sensor::place;
+use fe::ceiling::{check_damping_ratio, check_mass_share};
 use fe::ceiling::{simulate, BaseInput, CeilingError, SimOptions, Simulation};
 use fe::generator::{generate, CeilingSpec, Parameters};
 use protocol::{History, Outputs};
@@ -54,13 +55,10 @@ pub(crate) fn set_solver_parameter(
     value: f64,
 ) -> Option<Result<(), String>> {
     match name {
-        DAMPING_RATIO => Some(check_damping(value).map(|()| opts.damping_ratio = value)),
-        DAMPING_MASS_SHARE => Some(if (0.0..=1.0).contains(&value) {
-            opts.damping_mass_share = value;
-            Ok(())
-        } else {
-            Err(format!("{value}: expected 0 <= share <= 1"))
-        }),
+        DAMPING_RATIO => Some(check_damping_ratio(value).map(|()| opts.damping_ratio = value)),
+        DAMPING_MASS_SHARE => {
+            Some(check_mass_share(value).map(|()| opts.damping_mass_share = value))
+        }
         _ => None,
     }
     .map(|r| r.map_err(|m| format!("{name} = {m}")))
@@ -138,7 +136,8 @@ impl Ceiling {
         if opts.substeps == 0 {
             return Err(invalid("substeps = 0: expected at least 1".into()));
         }
-        check_damping(opts.damping_ratio).map_err(|m| invalid(format!("damping_ratio = {m}")))?;
+        check_damping_ratio(opts.damping_ratio)
+            .map_err(|m| invalid(format!("damping_ratio = {m}")))?;
         let input = Excitation::from_json(&opts.excitation)
             .and_then(|e| e.base_input())
             .map_err(|e| invalid(e.to_string()))?;
@@ -159,15 +158,6 @@ impl Ceiling {
     /// The base input every run uses (m/s²).
     pub fn input(&self) -> &BaseInput {
         &self.input
-    }
-}
-
-/// `Ok` for 0 <= ratio < 1, else the value and what was expected.
-pub(crate) fn check_damping(ratio: f64) -> Result<(), String> {
-    if (0.0..1.0).contains(&ratio) {
-        Ok(())
-    } else {
-        Err(format!("{ratio}: expected 0 <= ratio < 1"))
     }
 }
 

@@ -12,11 +12,11 @@
 //! text so that a worker reproduces the coordinator's numbers bit for bit.
 //!
 //! Parameters: the names of `fe::generator::parameters_for` the variant
-//! (mm², MPa, mm⁴, N/mm, N, -) plus `damping_ratio` and `damping_mass_share`; a name may repeat (the
-//! last value wins), the others sit at their prior mid-points. A study may
-//! also name `run_index` ([`RUN_INDEX`]): each task then simulates the one
-//! run of that (0-based) index, so that the runs of one parameter point
-//! spread over the workers instead of queueing on one.
+//! (mm², MPa, mm⁴, N/mm, N, -) plus `damping_ratio` and `damping_mass_share`;
+//! a name may repeat (the last value wins), the others sit at their prior
+//! mid-points. A study may also name `run_index` ([`RUN_INDEX`]): each task
+//! then simulates the one run of that (0-based) index, so that the runs of
+//! one parameter point spread over the workers instead of queueing on one.
 //!
 //! Outputs: one history per (run, sensor) simulated, named `<run>/<sensor>`,
 //! one channel `<sensor>_accel_m_s2` (absolute acceleration) or
@@ -26,8 +26,7 @@
 //! variant has no spring in the group).
 
 use crate::ceiling::sensors::{id_ok, SensorOptions};
-use crate::ceiling::SOLVER_HINT;
-use crate::ceiling::{check_damping, check_sensors, is_solver_parameter, set_solver_parameter};
+use crate::ceiling::{check_sensors, is_solver_parameter, set_solver_parameter, SOLVER_HINT};
 use crate::exact_json::{f64_text, samples_hex};
 use crate::model::{Model, ModelError, ParamSet, RunContext, RunError};
 use crate::specimen::base_parameters;
@@ -130,7 +129,8 @@ impl CeilingCampaign {
         let study_names = names.iter().filter(|n| !is_solver_parameter(n) && *n != RUN_INDEX);
         let base =
             base_parameters(&spec, &BTreeMap::new(), study_names, SOLVER_HINT).map_err(invalid)?;
-        check_damping(o.damping_ratio).map_err(|m| invalid(format!("damping_ratio = {m}")))?;
+        fe::ceiling::check_damping_ratio(o.damping_ratio)
+            .map_err(|m| invalid(format!("damping_ratio = {m}")))?;
         check_groups("rayleigh_groups", &o.rayleigh_groups)?;
         check_groups("spring_groups", &o.spring_groups)?;
         if o.runs.is_empty() {

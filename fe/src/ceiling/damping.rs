@@ -30,6 +30,26 @@ impl RayleighFit {
     }
 }
 
+/// `Ok` for a damping ratio 0 <= ratio < 1, else the value and what was
+/// expected.
+pub fn check_damping_ratio(ratio: f64) -> Result<(), String> {
+    if (0.0..1.0).contains(&ratio) {
+        Ok(())
+    } else {
+        Err(format!("{ratio}: expected 0 <= ratio < 1"))
+    }
+}
+
+/// `Ok` for a mass share 0 <= share <= 1 ([`RayleighFit::with_mass_share`]),
+/// else the value and what was expected.
+pub fn check_mass_share(share: f64) -> Result<(), String> {
+    if (0.0..=1.0).contains(&share) {
+        Ok(())
+    } else {
+        Err(format!("{share}: expected 0 <= share <= 1"))
+    }
+}
+
 /// α and β giving ratio `zeta` at frequencies `f1_hz` and `f2_hz`.
 pub fn rayleigh_coefficients(zeta: f64, f1_hz: f64, f2_hz: f64) -> (f64, f64) {
     let (w1, w2) = (2.0 * std::f64::consts::PI * f1_hz, 2.0 * std::f64::consts::PI * f2_hz);
@@ -70,6 +90,21 @@ mod tests {
         }
         let w = 2.0 * std::f64::consts::PI * 4.0;
         assert!(a / (2.0 * w) + b * w / 2.0 < 0.05);
+    }
+
+    /// The checks refuse NaN and each side of their range, naming the value.
+    #[test]
+    fn checks_refuse_values_outside_their_range() {
+        assert!(check_damping_ratio(0.0).is_ok() && check_damping_ratio(0.99).is_ok());
+        for bad in [-0.01, 1.0, f64::NAN] {
+            let e = check_damping_ratio(bad).unwrap_err();
+            assert_eq!(e, format!("{bad}: expected 0 <= ratio < 1"));
+        }
+        assert!(check_mass_share(0.0).is_ok() && check_mass_share(1.0).is_ok());
+        for bad in [-0.01, 1.01, f64::NAN] {
+            let e = check_mass_share(bad).unwrap_err();
+            assert_eq!(e, format!("{bad}: expected 0 <= share <= 1"));
+        }
     }
 
     fn ratio_at(fit: &RayleighFit, f_hz: f64) -> f64 {

@@ -7,7 +7,7 @@
 //!
 //! Units: the model's N, mm, s, t; base motion mm/s².
 
-use super::damping::{rayleigh_on_first_modes, RayleighFit};
+use super::damping::{check_damping_ratio, check_mass_share, rayleigh_on_first_modes, RayleighFit};
 use super::input::BaseInput;
 use super::sensor::{place, Placement, Sensor, SensorKind};
 use super::simulate::{CeilingError, SimOptions};
@@ -136,13 +136,9 @@ fn check(input: &BaseInput, opts: &SimOptions) -> Result<(), CeilingError> {
             return bad(format!("input {name}: sample {k} is not a finite number"));
         }
     }
-    if !(opts.damping_ratio >= 0.0 && opts.damping_ratio < 1.0) {
-        return bad(format!("damping_ratio = {}: expected 0 <= ratio < 1", opts.damping_ratio));
-    }
-    if !(0.0..=1.0).contains(&opts.damping_mass_share) {
-        let share = opts.damping_mass_share;
-        return bad(format!("damping_mass_share = {share}: expected 0 <= share <= 1"));
-    }
+    check_damping_ratio(opts.damping_ratio).or_else(|m| bad(format!("damping_ratio = {m}")))?;
+    check_mass_share(opts.damping_mass_share)
+        .or_else(|m| bad(format!("damping_mass_share = {m}")))?;
     if opts.substeps == 0 {
         return bad("substeps = 0: expected >= 1".into());
     }
