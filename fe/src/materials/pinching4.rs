@@ -129,43 +129,49 @@ fn backbone_energy(b: &Backbone) -> f64 {
     e
 }
 
-impl Pinching4 {
-    /// Builds the material from its JSON parameters.
-    pub fn new(s: &Pinching4Spec) -> Result<Self, MaterialError> {
-        check_backbone(&s.ePd, &s.ePf, 1.0, ("ePd", "ePf"))?;
-        check_backbone(&s.eNd, &s.eNf, -1.0, ("eNd", "eNf"))?;
-        let scalars = [
-            ("rDispP", s.rDispP),
-            ("rForceP", s.rForceP),
-            ("uForceP", s.uForceP),
-            ("rDispN", s.rDispN),
-            ("rForceN", s.rForceN),
-            ("uForceN", s.uForceN),
-            ("gKLim", s.gKLim),
-            ("gDLim", s.gDLim),
-            ("gFLim", s.gFLim),
-            ("gE", s.gE),
-        ];
-        for (key, v) in scalars {
-            if !v.is_finite() {
-                return Err(bad(key, v, "a finite number"));
-            }
+/// Refuses backbones out of order and any non-finite scalar or coefficient.
+fn check_spec(s: &Pinching4Spec) -> Result<(), MaterialError> {
+    check_backbone(&s.ePd, &s.ePf, 1.0, ("ePd", "ePf"))?;
+    check_backbone(&s.eNd, &s.eNf, -1.0, ("eNd", "eNf"))?;
+    let scalars = [
+        ("rDispP", s.rDispP),
+        ("rForceP", s.rForceP),
+        ("uForceP", s.uForceP),
+        ("rDispN", s.rDispN),
+        ("rForceN", s.rForceN),
+        ("uForceN", s.uForceN),
+        ("gKLim", s.gKLim),
+        ("gDLim", s.gDLim),
+        ("gFLim", s.gFLim),
+        ("gE", s.gE),
+    ];
+    for (key, v) in scalars {
+        if !v.is_finite() {
+            return Err(bad(key, v, "a finite number"));
         }
-        for (key, g) in [("gK", s.gK), ("gD", s.gD), ("gF", s.gF)] {
-            if let Some(v) = g.iter().find(|v| !v.is_finite()) {
-                return Err(bad(key, *v, "finite coefficients"));
-            }
+    }
+    for (key, g) in [("gK", s.gK), ("gD", s.gD), ("gF", s.gF)] {
+        if let Some(v) = g.iter().find(|v| !v.is_finite()) {
+            return Err(bad(key, *v, "finite coefficients"));
         }
-        let damage = match s.dmgType.as_str() {
-            "cycle" | "Cycle" | "DamageCycle" | "damageCycle" => DamageType::Cycle,
-            "energy" | "Energy" | "DamageEnergy" | "damageEnergy" => DamageType::Energy,
-            _ => return Err(bad("dmgType", f64::NAN, "\"cycle\" or \"energy\"")),
-        };
-        let (pos, neg) = Self::backbones(s);
-        let k_elastic_pos = pos.force[1] / pos.disp[1];
-        let k_elastic_neg = neg.force[1] / neg.disp[1];
-        let energy_capacity = s.gE * backbone_energy(&pos).max(backbone_energy(&neg));
-        let virgin = History {
+    }
+    Ok(())
+}
+
+/// The damage type named by `dmgType` (OpenSees' spellings accepted).
+fn damage_type(name: &str) -> Result<DamageType, MaterialError> {
+    match name {
+        "cycle" | "Cycle" | "DamageCycle" | "damageCycle" => Ok(DamageType::Cycle),
+        "energy" | "Energy" | "DamageEnergy" | "damageEnergy" => Ok(DamageType::Energy),
+        _ => Err(bad("dmgType", f64::NAN, "\"cycle\" or \"energy\"")),
+    }
+}
+
+impl History {
+    /// The state before any deformation: elastic on the first backbone
+    /// points, no damage, demands at the second points.
+    fn virgin(pos: &Backbone, neg: &Backbone) -> Self {
+        History {
             state: 0,
             d: 0.0,
             f: 0.0,
@@ -185,13 +191,26 @@ impl Pinching4 {
             n_cycle: 0.0,
             gamma_k_used: 0.0,
             gamma_f_used: 0.0,
-            k_pos_dmg: k_elastic_pos,
-            k_neg_dmg: k_elastic_neg,
+            k_pos_dmg: pos.force[1] / pos.disp[1],
+            k_neg_dmg: neg.force[1] / neg.disp[1],
             u_max_dmg: pos.disp[1],
             u_min_dmg: neg.disp[1],
             pos_f_dmg: pos.force,
             neg_f_dmg: neg.force,
-        };
+        }
+    }
+}
+
+impl Pinching4 {
+    /// Builds the material from its JSON parameters.
+    pub fn new(s: &Pinching4Spec) -> Result<Self, MaterialError> {
+        check_spec(s)?;
+        let damage = damage_type(&s.dmgType)?;
+        let (pos, neg) = Self::backbones(s);
+        let k_elastic_pos = pos.force[1] / pos.disp[1];
+        let k_elastic_neg = neg.force[1] / neg.disp[1];
+        let energy_capacity = s.gE * backbone_energy(&pos).max(backbone_energy(&neg));
+        let virgin = History::virgin(&pos, &neg);
         let rule = |g: [f64; 4], limit| DamageRule { g, limit };
         Ok(Pinching4 {
             pos,

@@ -11,8 +11,7 @@ impl Pinching4 {
     /// Switches the trial state when `u` leaves the current branch or the
     /// loading direction reverses (OpenSees `getstate`).
     pub(super) fn update_branch(&self, t: &mut History, u: f64, du: f64) {
-        let c = &self.committed;
-        let reversal_check = du * c.rate <= 0.0;
+        let reversal_check = du * self.committed.rate <= 0.0;
         if !(u < t.low_d || u > t.high_d || reversal_check) {
             return;
         }
@@ -24,64 +23,86 @@ impl Pinching4 {
                     self.enter_negative_backbone(t, false);
                 }
             }
-            1 if du < 0.0 => {
-                if c.d > t.max_demand {
-                    t.max_demand = u - du;
-                }
-                if t.max_demand < t.u_max_dmg {
-                    t.max_demand = t.u_max_dmg;
-                }
-                self.damage_negative_strength(t);
-                if u < t.u_min_dmg {
-                    self.enter_negative_backbone(t, false);
-                } else {
-                    self.enter_state3(t);
-                }
-                t.gamma_k_used = c.gamma_k;
-                t.k_pos_dmg = self.k_elastic_pos * (1.0 - t.gamma_k_used);
-            }
-            2 if du > 0.0 => {
-                if c.d < t.min_demand {
-                    t.min_demand = c.d;
-                }
-                if t.min_demand > t.u_min_dmg {
-                    t.min_demand = t.u_min_dmg;
-                }
-                self.damage_positive_strength(t);
-                if u > t.u_max_dmg {
-                    self.enter_positive_backbone(t, false);
-                } else {
-                    self.enter_state4(t);
-                }
-                t.gamma_k_used = c.gamma_k;
-                t.k_neg_dmg = self.k_elastic_neg * (1.0 - t.gamma_k_used);
-            }
-            3 => {
-                if u < t.low_d {
-                    self.enter_negative_backbone(t, true);
-                } else if u > t.u_max_dmg && du > 0.0 {
-                    self.enter_positive_backbone(t, false);
-                } else if du > 0.0 {
-                    self.damage_positive_strength(t);
-                    self.enter_state4(t);
-                    t.gamma_k_used = c.gamma_k;
-                    t.k_neg_dmg = self.k_elastic_neg * (1.0 - t.gamma_k_used);
-                }
-            }
-            4 => {
-                if u > t.high_d {
-                    self.enter_positive_backbone(t, true);
-                } else if u < t.u_min_dmg && du < 0.0 {
-                    self.enter_negative_backbone(t, true);
-                } else if du < 0.0 {
-                    self.damage_negative_strength(t);
-                    self.enter_state3(t);
-                    t.gamma_k_used = c.gamma_k;
-                    t.k_pos_dmg = self.k_elastic_pos * (1.0 - t.gamma_k_used);
-                }
-            }
+            1 if du < 0.0 => self.unload_positive_backbone(t, u, du),
+            2 if du > 0.0 => self.unload_negative_backbone(t, u),
+            3 => self.leave_state3(t, u, du),
+            4 => self.leave_state4(t, u, du),
             _ => {}
         }
+    }
+
+    /// Unloading from the positive backbone: records the peak demand and
+    /// heads for the negative side (state 3, or state 2 beyond its demand).
+    fn unload_positive_backbone(&self, t: &mut History, u: f64, du: f64) {
+        if self.committed.d > t.max_demand {
+            t.max_demand = u - du;
+        }
+        if t.max_demand < t.u_max_dmg {
+            t.max_demand = t.u_max_dmg;
+        }
+        self.damage_negative_strength(t);
+        if u < t.u_min_dmg {
+            self.enter_negative_backbone(t, false);
+        } else {
+            self.enter_state3(t);
+        }
+        self.damage_positive_stiffness(t);
+    }
+
+    /// Unloading from the negative backbone: records the peak demand and
+    /// heads for the positive side (state 4, or state 1 beyond its demand).
+    fn unload_negative_backbone(&self, t: &mut History, u: f64) {
+        if self.committed.d < t.min_demand {
+            t.min_demand = self.committed.d;
+        }
+        if t.min_demand > t.u_min_dmg {
+            t.min_demand = t.u_min_dmg;
+        }
+        self.damage_positive_strength(t);
+        if u > t.u_max_dmg {
+            self.enter_positive_backbone(t, false);
+        } else {
+            self.enter_state4(t);
+        }
+        self.damage_negative_stiffness(t);
+    }
+
+    /// Leaving state 3 (reloading towards the negative side).
+    fn leave_state3(&self, t: &mut History, u: f64, du: f64) {
+        if u < t.low_d {
+            self.enter_negative_backbone(t, true);
+        } else if u > t.u_max_dmg && du > 0.0 {
+            self.enter_positive_backbone(t, false);
+        } else if du > 0.0 {
+            self.damage_positive_strength(t);
+            self.enter_state4(t);
+            self.damage_negative_stiffness(t);
+        }
+    }
+
+    /// Leaving state 4 (reloading towards the positive side).
+    fn leave_state4(&self, t: &mut History, u: f64, du: f64) {
+        if u > t.high_d {
+            self.enter_positive_backbone(t, true);
+        } else if u < t.u_min_dmg && du < 0.0 {
+            self.enter_negative_backbone(t, true);
+        } else if du < 0.0 {
+            self.damage_negative_strength(t);
+            self.enter_state3(t);
+            self.damage_positive_stiffness(t);
+        }
+    }
+
+    /// Applies the committed stiffness damage to the positive unloading slope.
+    fn damage_positive_stiffness(&self, t: &mut History) {
+        t.gamma_k_used = self.committed.gamma_k;
+        t.k_pos_dmg = self.k_elastic_pos * (1.0 - t.gamma_k_used);
+    }
+
+    /// Applies the committed stiffness damage to the negative unloading slope.
+    fn damage_negative_stiffness(&self, t: &mut History) {
+        t.gamma_k_used = self.committed.gamma_k;
+        t.k_neg_dmg = self.k_elastic_neg * (1.0 - t.gamma_k_used);
     }
 
     /// Applies the committed strength damage to the positive backbone.
