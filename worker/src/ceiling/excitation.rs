@@ -159,27 +159,6 @@ impl Excitation {
                 f_end_hz,
                 ramp_s,
             } => {
-                positive("pga_g", *pga_g)?;
-                positive("duration_s", *duration_s)?;
-                positive("dt_s", *dt_s)?;
-                positive("f_start_hz", *f_start_hz)?;
-                positive("f_end_hz", *f_end_hz)?;
-                if !(*ramp_s >= 0.0 && 2.0 * ramp_s <= *duration_s) {
-                    return err(
-                        "ramp_s",
-                        format!("{ramp_s}: expected 0 <= ramp_s <= duration_s / 2"),
-                    );
-                }
-                if *dt_s * 2.0 > *duration_s {
-                    return err("dt_s", format!("{dt_s}: expected at most duration_s / 2"));
-                }
-                let f_max = f_start_hz.max(*f_end_hz);
-                if *dt_s * f_max > 0.1 {
-                    return err(
-                        "dt_s",
-                        format!("{dt_s} s: expected at least 10 samples per cycle at {f_max} Hz"),
-                    );
-                }
                 let sweep = SineSweep {
                     f_start_hz: *f_start_hz,
                     f_end_hz: *f_end_hz,
@@ -187,6 +166,7 @@ impl Excitation {
                     amplitude_m_s2: pga_g * G_M_S2,
                     ramp_s: *ramp_s,
                 };
+                check_sweep(*pga_g, &sweep, *dt_s)?;
                 let a = sine_sweep(&sweep, *dt_s);
                 Ok(split(*direction, *dt_s, a.clone(), a))
             }
@@ -194,13 +174,7 @@ impl Excitation {
                 if !scale.is_finite() {
                     return err("scale", format!("{scale}: expected a finite number"));
                 }
-                let text = match (file, csv) {
-                    (None, Some(text)) => text.clone(),
-                    (Some(path), None) => std::fs::read_to_string(path).or_else(|e| {
-                        err("file", format!("{}: cannot read it ({e})", path.display()))
-                    })?,
-                    _ => return err("file", "expected exactly one of `file` or `csv`".into()),
-                };
+                let text = record_text(file, csv)?;
                 let factor = scale * units.to_m_s2();
                 let cols = Columns { direction: *direction, x: column_x, y: column_y };
                 let (dt_s, x, y) = read_record(&text, &cols)?;
@@ -208,6 +182,41 @@ impl Excitation {
                 Ok(split(*direction, dt_s, conv(x), conv(y)))
             }
         }
+    }
+}
+
+/// Refuses a sweep whose sizes are not positive, whose ramps overlap, or
+/// whose step resolves its highest frequency by fewer than 10 samples.
+fn check_sweep(pga_g: f64, s: &SineSweep, dt_s: f64) -> Result<(), ExcitationError> {
+    positive("pga_g", pga_g)?;
+    positive("duration_s", s.duration_s)?;
+    positive("dt_s", dt_s)?;
+    positive("f_start_hz", s.f_start_hz)?;
+    positive("f_end_hz", s.f_end_hz)?;
+    let ramp_s = s.ramp_s;
+    if !(ramp_s >= 0.0 && 2.0 * ramp_s <= s.duration_s) {
+        return err("ramp_s", format!("{ramp_s}: expected 0 <= ramp_s <= duration_s / 2"));
+    }
+    if dt_s * 2.0 > s.duration_s {
+        return err("dt_s", format!("{dt_s}: expected at most duration_s / 2"));
+    }
+    let f_max = s.f_start_hz.max(s.f_end_hz);
+    if dt_s * f_max > 0.1 {
+        return err(
+            "dt_s",
+            format!("{dt_s} s: expected at least 10 samples per cycle at {f_max} Hz"),
+        );
+    }
+    Ok(())
+}
+
+/// A record's CSV text: the file's, or the inline text (exactly one given).
+fn record_text(file: &Option<PathBuf>, csv: &Option<String>) -> Result<String, ExcitationError> {
+    match (file, csv) {
+        (None, Some(text)) => Ok(text.clone()),
+        (Some(path), None) => std::fs::read_to_string(path)
+            .or_else(|e| err("file", format!("{}: cannot read it ({e})", path.display()))),
+        _ => err("file", "expected exactly one of `file` or `csv`".into()),
     }
 }
 
@@ -433,5 +442,47 @@ mod tests {
         assert_eq!(x.len(), 2001);
         let peak = x.iter().fold(0.0f64, |m, a| m.max(a.abs()));
         assert!(peak <= 0.15 * G_M_S2 + 1e-12 && peak > 0.99 * 0.15 * G_M_S2, "{peak}");
+    }
+
+    #[test]
+    fn sweep_defects_name_the_key() {
+        let sweep = |edit: &dyn Fn(&mut [f64; 5])| {
+            // pga_g, duration_s, dt_s, f_start_hz, ramp_s
+            let mut v = [0.15, 10.0, 0.005, 6.0, 2.0];
+            edit(&mut v);
+            Excitation::SineSweep {
+                pga_g: v[0],
+                duration_s: v[1],
+                dt_s: v[2],
+                direction: Shaking::X,
+                f_start_hz: v[3],
+                f_end_hz: 0.8,
+                ramp_s: v[4],
+            }
+            .base_input()
+            .unwrap_err()
+        };
+        let cases: [(&dyn Fn(&mut [f64; 5]), &str, &str); 6] = [
+            (&|v| v[0] = 0.0, "pga_g", "finite number > 0"),
+            (&|v| v[1] = f64::NAN, "duration_s", "finite number > 0"),
+            (&|v| v[3] = -1.0, "f_start_hz", "finite number > 0"),
+            (&|v| v[4] = 6.0, "ramp_s", "duration_s / 2"),
+            (&|v| (v[1], v[2], v[4]) = (0.01, 0.006, 0.0), "dt_s", "duration_s / 2"),
+            (&|v| v[2] = 0.02, "dt_s", "10 samples per cycle at 6 Hz"),
+        ];
+        for (edit, key, expected) in cases {
+            let e = sweep(edit);
+            assert!(e.key == key && e.message.contains(expected), "{key}: {e}");
+        }
+    }
+
+    #[test]
+    fn record_needs_exactly_one_source() {
+        let mut r = record("t,a\n0,0\n0.01,1\n", RecordUnits::G, Shaking::X);
+        if let Excitation::Record { file, .. } = &mut r {
+            *file = Some("elsewhere.csv".into());
+        }
+        let e = r.base_input().unwrap_err();
+        assert!(e.key == "file" && e.message.contains("exactly one"), "{e}");
     }
 }
