@@ -12,8 +12,30 @@ pub struct Minimum {
     pub iters: usize,
 }
 
+/// Adaptive coefficients (Gao & Han 2012) for dimension `n`: reflection,
+/// expansion, contraction, shrink.
+struct Coefficients {
+    alpha: f64,
+    gamma: f64,
+    rho: f64,
+    sigma: f64,
+}
+
+impl Coefficients {
+    fn adaptive(n: usize) -> Self {
+        let nf = n as f64;
+        Coefficients {
+            alpha: 1.0,
+            gamma: 1.0 + 2.0 / nf,
+            rho: 0.75 - 0.5 / nf,
+            sigma: 1.0 - 1.0 / nf,
+        }
+    }
+}
+
 /// Minimises `f` from `x0` with initial simplex edge `step`, until the spread
 /// of simplex values is below `f_tol` and its diameter below 1e-7, or `max_iters`.
+/// With no coordinates, `x0` itself is the minimum.
 pub fn nelder_mead(
     f: &dyn Fn(&[f64]) -> f64,
     x0: &[f64],
@@ -22,8 +44,7 @@ pub fn nelder_mead(
     max_iters: usize,
 ) -> Minimum {
     let n = x0.len();
-    let nf = n as f64;
-    let (alpha, gamma, rho, sigma) = (1.0, 1.0 + 2.0 / nf, 0.75 - 0.5 / nf, 1.0 - 1.0 / nf);
+    let c = Coefficients::adaptive(n);
     let eval = |x: &[f64]| {
         let v = f(x);
         if v.is_nan() {
@@ -43,56 +64,61 @@ pub fn nelder_mead(
         })
         .collect();
     let mut iters = 0;
-    while iters < max_iters {
+    while n > 0 && iters < max_iters {
         simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
-        let diameter = simplex
-            .iter()
-            .flat_map(|p| p.0.iter().zip(&simplex[0].0).map(|(a, b)| (a - b).abs()))
-            .fold(0.0, f64::max);
-        if (simplex[n].1 - simplex[0].1).abs() <= f_tol
-            && diameter <= 1e-7
-            && simplex[0].1.is_finite()
-        {
+        if converged(&simplex, f_tol) {
             break;
         }
         iters += 1;
-        let centroid: Vec<f64> =
-            (0..n).map(|j| simplex[..n].iter().map(|p| p.0[j]).sum::<f64>() / nf).collect();
-        let along = |t: f64| -> Vec<f64> {
-            (0..n).map(|j| centroid[j] + t * (simplex[n].0[j] - centroid[j])).collect()
-        };
-        let xr = along(-alpha);
-        let fr = eval(&xr);
-        if fr < simplex[0].1 {
-            let xe = along(-alpha * gamma);
-            let fe = eval(&xe);
-            simplex[n] = if fe < fr { (xe, fe) } else { (xr, fr) };
-        } else if fr < simplex[n - 1].1 {
-            simplex[n] = (xr, fr);
-        } else {
-            let (xc, fc) = if fr < simplex[n].1 {
-                let x = along(-alpha * rho);
-                let v = eval(&x);
-                (x, v)
-            } else {
-                let x = along(rho);
-                let v = eval(&x);
-                (x, v)
-            };
-            if fc < simplex[n].1.min(fr) {
-                simplex[n] = (xc, fc);
-            } else {
-                let best = simplex[0].0.clone();
-                for p in simplex.iter_mut().skip(1) {
-                    p.0 = (0..n).map(|j| best[j] + sigma * (p.0[j] - best[j])).collect();
-                    p.1 = eval(&p.0);
-                }
-            }
-        }
+        iterate(&mut simplex, &c, &eval);
     }
     simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
     let (x, f) = simplex.swap_remove(0);
     Minimum { x, f, iters }
+}
+
+/// Whether a sorted simplex has a finite best value, a value spread within
+/// `f_tol` and a diameter within 1e-7.
+fn converged(simplex: &[(Vec<f64>, f64)], f_tol: f64) -> bool {
+    let n = simplex.len() - 1;
+    let diameter = simplex
+        .iter()
+        .flat_map(|p| p.0.iter().zip(&simplex[0].0).map(|(a, b)| (a - b).abs()))
+        .fold(0.0, f64::max);
+    (simplex[n].1 - simplex[0].1).abs() <= f_tol && diameter <= 1e-7 && simplex[0].1.is_finite()
+}
+
+/// One Nelder–Mead iteration on a sorted simplex: reflect the worst point,
+/// expand, contract outside or inside, or shrink towards the best.
+fn iterate(simplex: &mut [(Vec<f64>, f64)], c: &Coefficients, eval: &dyn Fn(&[f64]) -> f64) {
+    let n = simplex.len() - 1;
+    let nf = n as f64;
+    let centroid: Vec<f64> =
+        (0..n).map(|j| simplex[..n].iter().map(|p| p.0[j]).sum::<f64>() / nf).collect();
+    let worst = simplex[n].0.clone();
+    let along = |t: f64| -> (Vec<f64>, f64) {
+        let x: Vec<f64> = (0..n).map(|j| centroid[j] + t * (worst[j] - centroid[j])).collect();
+        let v = eval(&x);
+        (x, v)
+    };
+    let (xr, fr) = along(-c.alpha);
+    if fr < simplex[0].1 {
+        let (xe, fe) = along(-c.alpha * c.gamma);
+        simplex[n] = if fe < fr { (xe, fe) } else { (xr, fr) };
+    } else if fr < simplex[n - 1].1 {
+        simplex[n] = (xr, fr);
+    } else {
+        let (xc, fc) = if fr < simplex[n].1 { along(-c.alpha * c.rho) } else { along(c.rho) };
+        if fc < simplex[n].1.min(fr) {
+            simplex[n] = (xc, fc);
+        } else {
+            let best = simplex[0].0.clone();
+            for p in simplex.iter_mut().skip(1) {
+                p.0 = (0..n).map(|j| best[j] + c.sigma * (p.0[j] - best[j])).collect();
+                p.1 = eval(&p.0);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -113,5 +139,11 @@ mod tests {
         };
         let m = nelder_mead(&f, &[0.0; 4], 1.0, 1e-16, 5000);
         assert!(m.x.iter().all(|v| (v - 0.5).abs() < 1e-5), "{m:?}");
+    }
+
+    #[test]
+    fn no_coordinates_is_its_own_minimum() {
+        let m = nelder_mead(&|_: &[f64]| 3.0, &[], 1.0, 1e-12, 100);
+        assert_eq!(m, Minimum { x: vec![], f: 3.0, iters: 0 });
     }
 }
