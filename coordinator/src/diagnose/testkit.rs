@@ -93,8 +93,6 @@ pub fn pounding_diagnosis(
     pounding: bool,
     with_disp: bool,
 ) -> (crate::bundle::Bundle, super::pipeline::Diagnosis) {
-    use super::cause::Cause;
-    use super::pipeline::{CandidateResult, Diagnosis};
     use crate::bundle::*;
     let dt = 0.01;
     let n = 2000;
@@ -109,21 +107,6 @@ pub fn pounding_diagnosis(
     let (_, free) = sdof(&inputs[2], dt, 3.0, 0.03, None);
     let gap_m = 0.5 * free.iter().fold(0.0f64, |m, d| m.max(d.abs()));
     let stop = pounding.then_some((gap_m, 200.0));
-    let sensor = |id: &str, kind, x_m| Sensor {
-        id: id.into(),
-        kind,
-        x_m,
-        y_m: x_m,
-        direction: Direction::X,
-        units: if kind == SensorKind::Displacement { SensorUnits::Mm } else { SensorUnits::MPerS2 },
-    };
-    let mut sensors = vec![
-        sensor("A2", SensorKind::Acceleration, 0.6),
-        sensor("A1", SensorKind::Acceleration, 1.8),
-    ];
-    if with_disp {
-        sensors.push(sensor("D1", SensorKind::Displacement, 1.8));
-    }
     let channels = |acc: &[f64], disp: &[f64]| -> Simulated {
         let mut out = vec![("A2".to_string(), acc.to_vec()), ("A1".to_string(), acc.to_vec())];
         if with_disp {
@@ -147,31 +130,13 @@ pub fn pounding_diagnosis(
         let (a, u) = sdof(ag, dt, 3.0, 0.03, stop);
         ext.push(channels(&a, &u));
     }
-    let manifest = Manifest {
-        format: FORMAT.into(),
-        name: "sdof-campaign".into(),
-        description: None,
-        structure: square_structure(3.6, gap_m * 1000.0),
-        sensors,
-        runs: runs
-            .iter()
-            .enumerate()
-            .map(|(k, (id, _))| RunMeta {
-                id: (*id).into(),
-                file: format!("{id}.csv"),
-                description: None,
-                input_x: Some("ax".into()),
-                input_y: None,
-                input_units: InputUnits::MPerS2,
-                role: Some(if k == 2 { RunRole::Validation } else { RunRole::Calibration }),
-            })
-            .collect(),
-    };
-    let data = runs
+    let ids: Vec<&str> = runs.iter().map(|(id, _)| *id).collect();
+    let manifest = sdof_manifest(&ids, sdof_sensors(with_disp), gap_m);
+    let data = ids
         .iter()
         .zip(&inputs)
         .zip(measured)
-        .map(|(((id, _), ag), sensors)| RunData {
+        .map(|((id, ag), sensors)| RunData {
             id: (*id).into(),
             t0_s: 0.0,
             dt_s: dt,
@@ -181,18 +146,83 @@ pub fn pounding_diagnosis(
         })
         .collect();
     let bundle = Bundle { dir: "sdof-campaign".into(), manifest, runs: data, modal: None };
+    (bundle, sdof_diagnosis(pounding, &base, &ext))
+}
+
+/// The oscillator campaign's sensors: accelerometers A2 and A1 in x, and
+/// displacement sensor D1 beside A1 `with_disp`.
+fn sdof_sensors(with_disp: bool) -> Vec<crate::bundle::Sensor> {
+    use crate::bundle::*;
+    let sensor = |id: &str, kind, x_m| Sensor {
+        id: id.into(),
+        kind,
+        x_m,
+        y_m: x_m,
+        direction: Direction::X,
+        units: if kind == SensorKind::Displacement { SensorUnits::Mm } else { SensorUnits::MPerS2 },
+    };
+    let mut sensors = vec![
+        sensor("A2", SensorKind::Acceleration, 0.6),
+        sensor("A1", SensorKind::Acceleration, 1.8),
+    ];
+    if with_disp {
+        sensors.push(sensor("D1", SensorKind::Displacement, 1.8));
+    }
+    sensors
+}
+
+/// The oscillator campaign's manifest: runs `ids` in x (the last
+/// validates), on a 3.6 m square specimen with the gap `gap_m`.
+fn sdof_manifest(
+    ids: &[&str],
+    sensors: Vec<crate::bundle::Sensor>,
+    gap_m: f64,
+) -> crate::bundle::Manifest {
+    use crate::bundle::*;
+    let last = ids.len() - 1;
+    Manifest {
+        format: FORMAT.into(),
+        name: "sdof-campaign".into(),
+        description: None,
+        structure: square_structure(3.6, gap_m * 1000.0),
+        sensors,
+        runs: ids
+            .iter()
+            .enumerate()
+            .map(|(k, id)| RunMeta {
+                id: (*id).into(),
+                file: format!("{id}.csv"),
+                description: None,
+                input_x: Some("ax".into()),
+                input_y: None,
+                input_units: InputUnits::MPerS2,
+                role: Some(if k == last { RunRole::Validation } else { RunRole::Calibration }),
+            })
+            .collect(),
+    }
+}
+
+/// A diagnosis choosing pounding (or none) from the baseline's and the
+/// extension's simulations of the three runs, the last validating.
+fn sdof_diagnosis(
+    pounding: bool,
+    base: &[Simulated],
+    ext: &[Simulated],
+) -> super::pipeline::Diagnosis {
+    use super::cause::Cause;
+    use super::pipeline::{CandidateResult, Diagnosis};
     let candidate = |cause, sims: &[Simulated], selected| CandidateResult {
         validation_sims: vec![sims[2].clone()],
         calibration_sims: sims[..2].to_vec(),
         selected,
         ..CandidateResult::unassessed(cause, None)
     };
-    let d = Diagnosis {
+    Diagnosis {
         bundle: "sdof-campaign".into(),
         cause: if pounding { Cause::PerimeterPounding } else { Cause::None },
         candidates: vec![
-            candidate(Cause::None, &base, !pounding),
-            candidate(Cause::PerimeterPounding, &ext, pounding),
+            candidate(Cause::None, base, !pounding),
+            candidate(Cause::PerimeterPounding, ext, pounding),
         ],
         calibration_runs: vec![0, 1],
         validation_runs: vec![2],
@@ -200,6 +230,5 @@ pub fn pounding_diagnosis(
         extended_validation_error: f64::NAN,
         gain: 0.0,
         fe_points: 0,
-    };
-    (bundle, d)
+    }
 }
