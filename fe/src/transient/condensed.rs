@@ -23,7 +23,7 @@ use faer::{Conj, Mat, MatMut};
 
 use super::factor_cache::{FactorCache, TangentFactor};
 use super::newmark::NewmarkConstants;
-use super::newton::{Dynamics, Kinematics, NewtonFailure, NewtonSettings};
+use super::newton::{Dynamics, Kinematics, NewtonFailure, NewtonSettings, Step};
 use super::round_off::at_round_off;
 use super::springs::SpringStates;
 use crate::assembly::Structure;
@@ -354,19 +354,16 @@ fn linearised_forces(v: &SpringVectors, dd: &[f64]) -> Vec<f64> {
 impl Dynamics<'_> {
     /// [`Dynamics::solve_step`] on the nonlinear springs' deformations
     /// (see the module comment); returns the number of iterations.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn solve_step_condensed(
         &mut self,
         c: &mut Condensed,
-        nm: &NewmarkConstants,
-        committed: &Kinematics,
+        step: &Step<'_>,
         trial: &mut Kinematics,
         springs: &mut SpringStates,
-        ext: &[f64],
-        settings: &NewtonSettings,
     ) -> Result<usize, NewtonFailure> {
+        let settings = step.settings;
         let s = self.structure();
-        let st = self.condensed_start(c, nm, committed, trial, springs, ext)?;
+        let st = self.condensed_start(c, step, trial, springs)?;
         let m = c.springs.len();
         let mut v = st.at_start.clone();
         let (mut phi, mut dd, mut scale) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
@@ -383,7 +380,7 @@ impl Dynamics<'_> {
                 && c.phi_at_round_off(&st, &v, &phi, settings, &mut scale);
             if floor && kept {
                 let ghat = solved.map(|(_, g)| g).unwrap_or_default();
-                self.finish(c, &st, &ghat, nm, committed, trial, springs)?;
+                self.finish(c, &st, &ghat, step, trial, springs)?;
                 return Ok(it - 1);
             }
             c.dense.increment(st.bi, &c.bases[st.bi].g, &v.delta, &phi, &mut dd);
@@ -396,7 +393,7 @@ impl Dynamics<'_> {
             v.d.iter_mut().zip(&dd).for_each(|(d, x)| *d += x);
             last = norm;
             if norm < settings.tol_mm || (floor && norm < settings.floor_tol_mm) {
-                self.finish(c, &st, &ghat, nm, committed, trial, springs)?;
+                self.finish(c, &st, &ghat, step, trial, springs)?;
                 return Ok(it);
             }
             solved = Some((v.delta.clone(), ghat));
@@ -410,12 +407,11 @@ impl Dynamics<'_> {
     fn condensed_start(
         &mut self,
         c: &mut Condensed,
-        nm: &NewmarkConstants,
-        committed: &Kinematics,
+        step: &Step<'_>,
         trial: &mut Kinematics,
         springs: &SpringStates,
-        ext: &[f64],
     ) -> Result<StepStart, NewtonFailure> {
+        let &Step { nm, committed, ext, .. } = step;
         let n = committed.u.len();
         trial.u.clone_from(&committed.u);
         trial.follow_displacements(nm, committed);
@@ -446,17 +442,16 @@ impl Dynamics<'_> {
 
     /// Sets the trial state at u = uₙ + r₀ − Z(ĝ − gₙ): every spring, the
     /// velocities and accelerations.
-    #[allow(clippy::too_many_arguments)]
     fn finish(
         &self,
         c: &Condensed,
         st: &StepStart,
         ghat: &[f64],
-        nm: &NewmarkConstants,
-        committed: &Kinematics,
+        step: &Step<'_>,
         trial: &mut Kinematics,
         springs: &mut SpringStates,
     ) -> Result<(), NewtonFailure> {
+        let &Step { nm, committed, .. } = step;
         let n = committed.u.len();
         trial.u.iter_mut().zip(&committed.u).zip(&st.r0).for_each(|((u, un), r)| *u = un + r);
         let e: Vec<f64> = st.at_start.g.iter().zip(ghat).map(|(a, b)| a - b).collect();

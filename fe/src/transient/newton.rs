@@ -198,6 +198,21 @@ impl SparseIteration {
     }
 }
 
+/// One time step's fixed inputs: the Newmark constants of its size, the
+/// committed state it starts from, the external load Σ M r a_g at its end
+/// (N) and the Newton settings.
+#[derive(Debug, Clone, Copy)]
+pub struct Step<'a> {
+    /// Newmark constants at the step size.
+    pub nm: &'a NewmarkConstants,
+    /// The committed state at the step start.
+    pub committed: &'a Kinematics,
+    /// External load at the step end (N), one per free DOF.
+    pub ext: &'a [f64],
+    /// Newton settings.
+    pub settings: &'a NewtonSettings,
+}
+
 /// The constant parts of the dynamic system and the factorization cache.
 pub struct Dynamics<'a> {
     s: &'a Structure,
@@ -392,39 +407,33 @@ impl<'a> Dynamics<'a> {
         self.work = fs;
     }
 
-    /// Solves one step from `committed` to a converged `trial`; returns the
-    /// number of iterations. `ext` is Σ M r a_g at the step end (N).
+    /// Solves `step` from its committed state to a converged `trial`;
+    /// returns the number of iterations.
     pub fn solve_step(
         &mut self,
-        nm: &NewmarkConstants,
-        committed: &Kinematics,
+        step: &Step<'_>,
         trial: &mut Kinematics,
         springs: &mut SpringStates,
-        ext: &[f64],
-        settings: &NewtonSettings,
     ) -> Result<usize, NewtonFailure> {
-        if settings.condense && settings.stale_max_iter == 0 {
+        if step.settings.condense && step.settings.stale_max_iter == 0 {
             if let Some(mut c) = self.condensed.take() {
-                let res =
-                    self.solve_step_condensed(&mut c, nm, committed, trial, springs, ext, settings);
+                let res = self.solve_step_condensed(&mut c, step, trial, springs);
                 self.condensed = Some(c);
                 return res;
             }
         }
-        self.solve_step_sparse(nm, committed, trial, springs, ext, settings)
+        self.solve_step_sparse(step, trial, springs)
     }
 
     /// [`Dynamics::solve_step`] on every free DOF with the sparse tangent;
     /// returns the number of iterations.
     fn solve_step_sparse(
         &mut self,
-        nm: &NewmarkConstants,
-        committed: &Kinematics,
+        step: &Step<'_>,
         trial: &mut Kinematics,
         springs: &mut SpringStates,
-        ext: &[f64],
-        settings: &NewtonSettings,
     ) -> Result<usize, NewtonFailure> {
+        let &Step { nm, committed, ext, settings } = step;
         trial.u.clone_from(&committed.u);
         let mut st = SparseIteration::new(committed.u.len(), settings);
         for it in 1..=settings.max_iter {

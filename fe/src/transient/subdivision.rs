@@ -6,7 +6,7 @@
 
 use super::excitation::BaseMotion;
 use super::newmark::NewmarkConstants;
-use super::newton::{Dynamics, Kinematics, NewtonFailure, NewtonSettings};
+use super::newton::{Dynamics, Kinematics, NewtonFailure, NewtonSettings, Step};
 use super::springs::SpringStates;
 
 /// The mutable state a step advances.
@@ -67,7 +67,8 @@ pub fn advance(
 ) -> Result<StepCost, StepFailure> {
     let nm = NewmarkConstants::new(ctl.gamma, ctl.beta, dt_s);
     let ext = external_load(ground, loads, t0_s + dt_s);
-    let res = sys.solve_step(&nm, &st.committed, &mut st.trial, &mut st.springs, &ext, &ctl.newton);
+    let step = Step { nm: &nm, committed: &st.committed, ext: &ext, settings: &ctl.newton };
+    let res = sys.solve_step(&step, &mut st.trial, &mut st.springs);
     match res {
         Ok(iterations) => {
             st.springs.commit();
