@@ -23,7 +23,8 @@ The model is built by the reference driver `osjson.py`
 (`<repo>/../shared/verification/opensees`, or --osjson, or the environment
 variable CEILFARM_OSJSON_DIR). Everything after the build is done here: one
 `UniformExcitation` pattern per shaken direction, Rayleigh damping on the
-initial stiffness (osjson.apply_damping), Newmark with Newton and the
+initial stiffness (osjson.apply_damping; on the current tangent under the
+damping-tangent variant), Newmark with Newton and the
 NormDispIncr test at osjson.setup_transient's tolerance. A step that does not
 converge is halved, up to 6 times (dt/64, as ceilfarm does), and at dt/64 tried
 once more with Newton on the initial tangent (for materials whose reported
@@ -99,11 +100,23 @@ def excitations(an):
     return ex
 
 
+def apply_damping(m, ops, osjson):
+    """Rayleigh damping as osjson applies it (initial stiffness), or on the
+    current tangent where the damping-tangent variant says so."""
+    d = m.get("damping")
+    if d and d.get("stiffness") == "current":
+        assert d["type"] == "rayleigh", d["type"]
+        # alphaM, betaK(current), betaK(initial)=0, betaK(committed)=0
+        ops.rayleigh(d["alphaM"], d["betaK"], 0.0, 0.0)
+        return
+    osjson.apply_damping(m, ops)
+
+
 def setup(m, ops, osjson):
     """Damping, one UniformExcitation per record, Newmark + Newton; returns {dof: (dt, acc)}."""
     an = m["analysis"]
     assert an["type"] == "transient", an["type"]
-    osjson.apply_damping(m, ops)
+    apply_damping(m, ops, osjson)
     ground = {}
     for k, exc in enumerate(excitations(an), start=1):
         assert exc["type"] == "uniform_base_acceleration", exc["type"]

@@ -59,6 +59,10 @@ Variants (units of the model file: N, mm, s, t):
   at a period below 10 ms).
 * damping-shift: Rayleigh re-targeted to 1.5 zeta at the lower anchor (the
   lowest target frequency) and 0.7 zeta at 4 times it.
+* damping-tangent: Rayleigh's stiffness term on the current tangent
+  (OpenSees betaK) instead of the initial stiffness (betaKinit), same
+  coefficients: a slipping or yielding spring stops damping, as in the many
+  OpenSees scripts that damp on the tangent. run_campaign.py applies it.
 
 A variant whose target is absent (no gap, no Steel01 friction spring, no
 Pinching4) leaves the model as it is and says so in its report.
@@ -341,6 +345,19 @@ def damping_shift(m, seed):
                              for f in probe}}
 
 
+def damping_tangent(m, seed):
+    """Rayleigh's stiffness term on the current tangent instead of the initial stiffness."""
+    d = m.get("damping")
+    if not d or d.get("type") != "rayleigh" or d.get("stiffness") != "initial":
+        return absent("Rayleigh damping on the initial stiffness")
+    d["stiffness"] = "current"
+    nonlinear = {mat["id"] for mat in m.get("materials", [])
+                 if mat["type"] not in ("Elastic", "Gap")}
+    n = sum(1 for s in m.get("springs", []) if s.get("rayleigh") and s["mat"] in nonlinear)
+    return {"applied": True, "stiffness": ["initial", "current"],
+            "damped_nonlinear_springs": n}
+
+
 VARIANTS = {
     "contact-impact": contact_impact,
     "contact-stiffening": contact_stiffening,
@@ -355,12 +372,13 @@ VARIANTS = {
     "member-scatter": member_scatter,
     "fine-steps": fine_steps,
     "damping-shift": damping_shift,
+    "damping-tangent": damping_tangent,
 }
 # contact law first, then scatter of whatever gap material results
 ORDER = ["contact-impact", "contact-stiffening", "contact-softening", "gap-scatter",
          "gap-scatter-measured",
          "friction-scatter", "friction-smooth", "pinching-shape", "pinching-flag",
-         "mass-scatter", "member-scatter", "fine-steps", "damping-shift"]
+         "mass-scatter", "member-scatter", "fine-steps", "damping-shift", "damping-tangent"]
 
 
 def parse(text):
@@ -432,6 +450,11 @@ def self_check():
     assert abs(slope - 30.0) < 1e-9                 # K2 = 0.3 K1 beyond the first 0.1 mm
     assert mats[o["springs"][2]["mat"]]["cmd"][:4] == ["Steel02", 5.0, 20.0, 0.05]
     assert ro["pinching-flag"]["applied"] is False
+    t, rt = apply(m, ["damping-tangent"], seed=7)
+    assert t["damping"]["stiffness"] == "current" and m["damping"]["stiffness"] == "initial"
+    assert (t["damping"]["alphaM"], t["damping"]["betaK"]) == (1.0, 1e-3)
+    t2, rt2 = apply(t, ["damping-tangent"], seed=7)
+    assert rt2["damping-tangent"]["applied"] is False   # already on the tangent
     return True
 
 
