@@ -446,8 +446,9 @@ mod tests {
 
     #[test]
     fn sweep_defects_name_the_key() {
-        let sweep = |edit: &dyn Fn(&mut [f64; 5])| {
-            // pga_g, duration_s, dt_s, f_start_hz, ramp_s
+        // pga_g, duration_s, dt_s, f_start_hz, ramp_s, edited by each case
+        type Edit = fn(&mut [f64; 5]);
+        let sweep = |edit: Edit| {
             let mut v = [0.15, 10.0, 0.005, 6.0, 2.0];
             edit(&mut v);
             Excitation::SineSweep {
@@ -462,13 +463,13 @@ mod tests {
             .base_input()
             .unwrap_err()
         };
-        let cases: [(&dyn Fn(&mut [f64; 5]), &str, &str); 6] = [
-            (&|v| v[0] = 0.0, "pga_g", "finite number > 0"),
-            (&|v| v[1] = f64::NAN, "duration_s", "finite number > 0"),
-            (&|v| v[3] = -1.0, "f_start_hz", "finite number > 0"),
-            (&|v| v[4] = 6.0, "ramp_s", "duration_s / 2"),
-            (&|v| (v[1], v[2], v[4]) = (0.01, 0.006, 0.0), "dt_s", "duration_s / 2"),
-            (&|v| v[2] = 0.02, "dt_s", "10 samples per cycle at 6 Hz"),
+        let cases: [(Edit, &str, &str); 6] = [
+            (|v| v[0] = 0.0, "pga_g", "finite number > 0"),
+            (|v| v[1] = f64::NAN, "duration_s", "finite number > 0"),
+            (|v| v[3] = -1.0, "f_start_hz", "finite number > 0"),
+            (|v| v[4] = 6.0, "ramp_s", "duration_s / 2"),
+            (|v| (v[1], v[2], v[4]) = (0.01, 0.006, 0.0), "dt_s", "duration_s / 2"),
+            (|v| v[2] = 0.02, "dt_s", "10 samples per cycle at 6 Hz"),
         ];
         for (edit, key, expected) in cases {
             let e = sweep(edit);
