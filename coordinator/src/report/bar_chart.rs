@@ -82,16 +82,8 @@ pub fn bar_chart(chart: &BarChart) -> Result<String, ReportError> {
         let x0 = x.px_lo + slot * (c as f64 + 0.1);
         let emphasis = chart.highlight == Some(c);
         for (g, group) in chart.groups.iter().enumerate() {
-            draw_bar(
-                &mut svg,
-                x0 + bar_w * g as f64,
-                bar_w,
-                zero,
-                group.values[c],
-                &y,
-                series_colour(g + 1),
-                emphasis,
-            );
+            let slot = BarSlot { x0: x0 + bar_w * g as f64, width: bar_w, zero };
+            draw_bar(&mut svg, &slot, group.values[c], &y, series_colour(g + 1), emphasis);
         }
         category_label(
             &mut svg,
@@ -133,17 +125,25 @@ fn check(chart: &BarChart) -> Result<(), ReportError> {
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
+/// Where one bar stands: its left edge and width, and the zero line's
+/// height (px).
+struct BarSlot {
+    x0: f64,
+    width: f64,
+    zero: f64,
+}
+
+/// One bar of value `v` in `slot`, labelled with its value when the label
+/// fits ("n/a" for a value that cannot be drawn).
 fn draw_bar(
     svg: &mut Svg,
-    x0: f64,
-    w: f64,
-    zero: f64,
+    slot: &BarSlot,
     v: f64,
     y: &super::axis::Axis,
     colour: &str,
     emphasis: bool,
 ) {
+    let &BarSlot { x0, width: w, zero } = slot;
     let Some(top) = y.map(v).filter(|_| v.is_finite()) else {
         svg.text(x0 + w / 2.0, zero - 4.0, "n/a", TextStyle::new(TICK_PX - 1.0, Anchor::Middle));
         return;
