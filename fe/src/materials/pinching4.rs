@@ -41,6 +41,14 @@ pub struct Backbone {
     pub force: [f64; 6],
 }
 
+impl Backbone {
+    /// Secant slope to the first user point (N/mm): the elastic stiffness
+    /// that stiffness damage reduces.
+    fn elastic_slope(&self) -> f64 {
+        self.force[1] / self.disp[1]
+    }
+}
+
 /// Everything a step changes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct History {
@@ -191,8 +199,8 @@ impl History {
             n_cycle: 0.0,
             gamma_k_used: 0.0,
             gamma_f_used: 0.0,
-            k_pos_dmg: pos.force[1] / pos.disp[1],
-            k_neg_dmg: neg.force[1] / neg.disp[1],
+            k_pos_dmg: pos.elastic_slope(),
+            k_neg_dmg: neg.elastic_slope(),
             u_max_dmg: pos.disp[1],
             u_min_dmg: neg.disp[1],
             pos_f_dmg: pos.force,
@@ -207,8 +215,8 @@ impl Pinching4 {
         check_spec(s)?;
         let damage = damage_type(&s.dmgType)?;
         let (pos, neg) = Self::backbones(s);
-        let k_elastic_pos = pos.force[1] / pos.disp[1];
-        let k_elastic_neg = neg.force[1] / neg.disp[1];
+        let k_elastic_pos = pos.elastic_slope();
+        let k_elastic_neg = neg.elastic_slope();
         let energy_capacity = s.gE * backbone_energy(&pos).max(backbone_energy(&neg));
         let virgin = History::virgin(&pos, &neg);
         let rule = |g: [f64; 4], limit| DamageRule { g, limit };

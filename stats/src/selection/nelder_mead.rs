@@ -95,7 +95,7 @@ fn iterate(simplex: &mut [(Vec<f64>, f64)], c: &Coefficients, eval: &dyn Fn(&[f6
     let nf = n as f64;
     let centroid: Vec<f64> =
         (0..n).map(|j| simplex[..n].iter().map(|p| p.0[j]).sum::<f64>() / nf).collect();
-    let worst = simplex[n].0.clone();
+    let worst = &simplex[n].0;
     let along = |t: f64| -> (Vec<f64>, f64) {
         let x: Vec<f64> = (0..n).map(|j| centroid[j] + t * (worst[j] - centroid[j])).collect();
         let v = eval(&x);
