@@ -2,8 +2,8 @@
 //! exported model before OpenSees runs it (the campaigns behind the
 //! README's robustness measurements): its self-check, pure Python without
 //! OpenSees, must pass. Without `python3` the test prints "skipped" and
-//! passes, unless `CEILFARM_REQUIRE_BROWSER=1` (set by `.ci/run` when it
-//! has installed python3), where it fails.
+//! passes, unless `CEILFARM_REQUIRE_BROWSER=1`, which `.ci/run` sets only
+//! when Chromium and python3 are both present; then it fails.
 
 use std::path::Path;
 use std::process::Command;

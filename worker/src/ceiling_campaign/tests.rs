@@ -79,6 +79,25 @@ fn build_error(edit: impl Fn(&mut CampaignOptions)) -> String {
     built(&o).err().expect("refused").to_string()
 }
 
+/// What `fe::ceiling::simulate` needs to replay the campaign directly: the
+/// specimen, its prior mid-points with `K_friction` at `k_friction_n_mm`,
+/// and `opts` with the campaign's spring and Rayleigh groups.
+fn direct(
+    o: &CampaignOptions,
+    k_friction_n_mm: f64,
+    opts: SimOptions,
+) -> (CeilingSpec, Parameters, SimOptions) {
+    let spec = CeilingSpec::from_toml_str(&o.spec_toml, Path::new("t")).unwrap();
+    let mut p = Parameters::prior_midpoints_for(&spec);
+    p.set("K_friction", k_friction_n_mm).unwrap();
+    let opts = SimOptions {
+        spring_groups: o.spring_groups.clone(),
+        rayleigh_groups: o.rayleigh_groups.clone(),
+        ..opts
+    };
+    (spec, p, opts)
+}
+
 /// Every run simulated directly with `fe::ceiling::simulate` gives the same
 /// histories and spring peaks, bit for bit, as the model built from JSON.
 #[test]
@@ -87,15 +106,8 @@ fn runs_match_direct_simulation_bit_for_bit() {
     let m = built(&o).unwrap();
     let out = m.run(&ParamSet::new(&names(), &[17.5, 0.03]).unwrap(), &RunContext::default());
     let out = out.unwrap();
-    let spec = CeilingSpec::from_toml_str(&o.spec_toml, Path::new("t")).unwrap();
-    let mut p = Parameters::prior_midpoints_for(&spec);
-    p.set("K_friction", 17.5).unwrap();
-    let opts = SimOptions {
-        damping_ratio: 0.03,
-        spring_groups: o.spring_groups.clone(),
-        rayleigh_groups: o.rayleigh_groups.clone(),
-        ..SimOptions::default()
-    };
+    let (spec, p, opts) =
+        direct(&o, 17.5, SimOptions { damping_ratio: 0.03, ..SimOptions::default() });
     let (mut hist, mut peaks) = (vec![], [0.0f64; 4]);
     for run in &o.runs {
         let fe: Vec<_> = run.sensors.iter().map(SensorOptions::sensor).collect();
@@ -242,15 +254,8 @@ fn the_damping_share_is_a_study_parameter() {
         let values = [17.5, 0.05, share];
         m.run(&ParamSet::new(&names, &values).unwrap(), &RunContext::default())
     };
-    let spec = CeilingSpec::from_toml_str(&o.spec_toml, Path::new("t")).unwrap();
-    let mut p = Parameters::prior_midpoints_for(&spec);
-    p.set("K_friction", 17.5).unwrap();
-    let opts = SimOptions {
-        damping_mass_share: 0.9,
-        spring_groups: o.spring_groups.clone(),
-        rayleigh_groups: o.rayleigh_groups.clone(),
-        ..SimOptions::default()
-    };
+    let (spec, p, opts) =
+        direct(&o, 17.5, SimOptions { damping_mass_share: 0.9, ..SimOptions::default() });
     let first = &o.runs[0];
     let fe: Vec<_> = first.sensors.iter().map(SensorOptions::sensor).collect();
     let sim = simulate(&spec, &p, &first.base_input(), &fe, &opts, &mut |_| {}).unwrap();
