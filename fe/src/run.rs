@@ -16,23 +16,23 @@ pub enum RunError {
     #[error(transparent)]
     Read(#[from] ReadError),
     /// The eigen solver failed.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Eigen {
         /// The model file.
         path: PathBuf,
-        /// The cause.
-        source: EigenError,
+        /// The cause (in the message, so not also a source to print twice).
+        error: EigenError,
     },
     /// Results could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
     /// The transient analysis failed; the rows up to the failure were written.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Transient {
         /// The model file.
         path: PathBuf,
         /// The cause (for a failed step: its time and reason).
-        source: TransientError,
+        error: TransientError,
     },
     /// The file asks for no analysis, or one this build cannot run.
     #[error("{path}: analysis `{kind}`: {expected}")]
@@ -83,7 +83,7 @@ pub fn run_model_file(
         }
     };
     let (s, res) = modal_analysis(&model, n_modes, &LanczosSettings::default())
-        .map_err(|source| RunError::Eigen { path: path.to_path_buf(), source })?;
+        .map_err(|error| RunError::Eigen { path: path.to_path_buf(), error })?;
     write_modal(out_dir, &s, &res)?;
     Ok(RunSummary::Eigen(res))
 }
@@ -97,7 +97,7 @@ fn run_transient(
     observer: &mut dyn FnMut(&StepReport),
 ) -> Result<History, RunError> {
     let dir = path.parent().unwrap_or(Path::new("."));
-    let fail = |source| RunError::Transient { path: path.to_path_buf(), source };
+    let fail = |error| RunError::Transient { path: path.to_path_buf(), error };
     std::fs::create_dir_all(out_dir).map_err(|e| {
         fail(TransientError::Io { path: out_dir.to_path_buf(), message: e.to_string() })
     })?;
