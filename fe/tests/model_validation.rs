@@ -113,3 +113,28 @@ fn invalid_material_and_malformed_json_are_refused() {
     assert!(matches!(e, ReadError::Json { line: 1, .. }), "{e}");
     expect(|v| v["nodes"][0] = json!([1, 0.0, 0.0]), "m.json:");
 }
+
+#[test]
+fn bad_damping_is_refused() {
+    let with = |d: Value| move |v: &mut Value| v["damping"] = d.clone();
+    let ok = json!({"type": "rayleigh", "alphaM": 0.5, "betaK": 1e-3, "stiffness": "committed"});
+    let mut v = valid();
+    with(ok)(&mut v);
+    parse_model(&v.to_string(), Path::new("m.json")).unwrap();
+    expect(
+        with(json!({"type": "modal", "alphaM": 0.5, "betaK": 1e-3})),
+        "damping.type = `modal`: expected `rayleigh`",
+    );
+    expect(
+        with(json!({"type": "rayleigh", "alphaM": -0.5, "betaK": 1e-3})),
+        "damping.alphaM = -0.5: expected a finite number >= 0",
+    );
+    expect(
+        with(json!({"type": "rayleigh", "alphaM": 0.5, "betaK": 1e308, "stiffness": "current"})),
+        "damping.stiffness = \"current\": expected \"initial\" or \"committed\"",
+    );
+    expect(
+        with(json!({"type": "rayleigh", "alphaM": 0.5, "betaK": 1e-3, "stiffness": 1})),
+        "damping.stiffness = 1: expected",
+    );
+}

@@ -244,12 +244,37 @@ pub struct Damping {
     /// Mass coefficient (1/s).
     #[serde(rename = "alphaM")]
     pub alpha_m_per_s: f64,
-    /// Initial-stiffness coefficient (s).
+    /// Stiffness coefficient (s); the stiffness is the one `stiffness` names.
     #[serde(rename = "betaK")]
     pub beta_k_s: f64,
-    /// Descriptive keys (`stiffness`, `target`, `applies_to`).
+    /// `stiffness` ([`Damping::stiffness`]) and descriptive keys (`target`,
+    /// `applies_to`).
     #[serde(flatten)]
     pub extra: Map<String, Value>,
+}
+
+/// The stiffness the Rayleigh term β K_R is proportional to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DampingStiffness {
+    /// The initial stiffness (OpenSees `betaKinit`); the format's default.
+    #[default]
+    Initial,
+    /// Each flagged spring's last committed tangent (OpenSees `betaKcomm`);
+    /// the beams are elastic, so theirs stays the initial one.
+    Committed,
+}
+
+impl Damping {
+    /// The `stiffness` key: `initial` when absent, else `initial` or
+    /// `committed`; any other value is returned as found.
+    pub fn stiffness(&self) -> Result<DampingStiffness, String> {
+        match self.extra.get("stiffness") {
+            None => Ok(DampingStiffness::Initial),
+            Some(Value::String(s)) if s == "initial" => Ok(DampingStiffness::Initial),
+            Some(Value::String(s)) if s == "committed" => Ok(DampingStiffness::Committed),
+            Some(v) => Err(v.to_string()),
+        }
+    }
 }
 
 /// The analysis block.

@@ -12,8 +12,8 @@ pub mod json;
 pub mod validate;
 
 pub use ir::{
-    Analysis, Beam, Damping, Fixity, Mass, MaterialDef, Model, Node, Spring, Units, FORMAT_NAME,
-    FORMAT_VERSION,
+    Analysis, Beam, Damping, DampingStiffness, Fixity, Mass, MaterialDef, Model, Node, Spring,
+    Units, FORMAT_NAME, FORMAT_VERSION,
 };
 pub use json::{parse_model, read_model, write_model, ReadError};
 pub use validate::{validate, ModelError};

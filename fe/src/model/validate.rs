@@ -4,7 +4,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::ir::{Beam, Model, Spring, FORMAT_NAME, FORMAT_VERSION};
+use super::ir::{Beam, Damping, Model, Spring, FORMAT_NAME, FORMAT_VERSION};
 use crate::materials::{build, MaterialError};
 
 /// Distance (mm) under which two spring nodes count as coincident.
@@ -133,6 +133,16 @@ pub enum ModelError {
         /// The material's complaint.
         source: MaterialError,
     },
+    /// The damping block breaks a rule.
+    #[error("damping.{key} = {found}: expected {expected}")]
+    Damping {
+        /// The key as in the file.
+        key: &'static str,
+        /// The value found.
+        found: String,
+        /// What was expected.
+        expected: &'static str,
+    },
     /// A mass is negative.
     #[error("mass on node {node}: m[{index}] = {value}: expected >= 0")]
     NegativeMass {
@@ -180,7 +190,25 @@ pub fn validate(model: &Model) -> Result<(), ModelError> {
         has(format!("spring {}", s.id), s.j)?;
         check_spring(s, coords[&s.i], coords[&s.j], &mats)?;
     }
-    Ok(())
+    model.damping.as_ref().map_or(Ok(()), check_damping)
+}
+
+/// Rayleigh damping with finite coefficients >= 0 on a stiffness the
+/// format knows.
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the check
+fn check_damping(d: &Damping) -> Result<(), ModelError> {
+    let bad = |key, found: String, expected| Err(ModelError::Damping { key, found, expected });
+    if d.kind != "rayleigh" {
+        return bad("type", format!("`{}`", d.kind), "`rayleigh`");
+    }
+    for (key, v) in [("alphaM", d.alpha_m_per_s), ("betaK", d.beta_k_s)] {
+        if !(v >= 0.0 && v.is_finite()) {
+            return bad(key, v.to_string(), "a finite number >= 0");
+        }
+    }
+    d.stiffness()
+        .map(|_| ())
+        .or_else(|found| bad("stiffness", found, "\"initial\" or \"committed\""))
 }
 
 fn check_header(model: &Model) -> Result<(), ModelError> {
