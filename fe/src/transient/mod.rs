@@ -4,7 +4,8 @@
 //! ([`newton`]), step halving on failure ([`subdivision`]), the ground
 //! record ([`excitation`]), recorders ([`recorders`]) and the history CSV
 //! ([`history`]). Rayleigh damping C = αM + βK_R on the initial stiffness of
-//! the beams and of the springs flagged `rayleigh`.
+//! the beams and of the springs flagged `rayleigh`, or on those springs'
+//! last committed tangents ([`tangent_damping`]).
 //!
 //! Units: N, mm, s, t; accelerations mm/s².
 
@@ -21,6 +22,7 @@ pub mod round_off;
 pub mod spec;
 pub mod springs;
 pub mod subdivision;
+pub mod tangent_damping;
 
 use std::path::{Path, PathBuf};
 
@@ -31,7 +33,7 @@ pub use newton::{Kinematics, NewtonFailure, NewtonSettings};
 pub use spec::TransientSpec;
 
 use crate::assembly::{AssemblyError, Structure};
-use crate::model::Model;
+use crate::model::{DampingStiffness, Model};
 use newton::Dynamics;
 use recorders::Recorders;
 use springs::SpringStates;
@@ -158,7 +160,12 @@ pub fn run_model(
     observer: &mut dyn FnMut(&StepReport),
 ) -> Result<History, TransientError> {
     let spec = TransientSpec::from_model(model)?;
-    let ground = BaseMotion::single(GroundMotion::from_spec(&spec.excitation, &opts.base_dir)?);
+    let components = spec
+        .components()
+        .iter()
+        .map(|e| GroundMotion::from_spec(e, &opts.base_dir))
+        .collect::<Result<Vec<_>, _>>()?;
+    let ground = BaseMotion { components };
     let plan = Plan {
         base: &ground,
         dt_s: spec.dt_s,
@@ -203,8 +210,11 @@ pub fn run_plan(
         model.damping.as_ref().map_or((0.0, 0.0), |d| (d.alpha_m_per_s, d.beta_k_s));
     let dofs: Vec<u8> = ground.components.iter().map(|g| g.dof).collect();
     let recs = Recorders::new(plan.recorders, &s, &dofs)?;
-    let springs = SpringStates::new(&s)
+    let mut springs = SpringStates::new(&s)
         .map_err(|f| TransientError::Material { spring: f.spring, message: f.error.to_string() })?;
+    if damping_stiffness(model)? == DampingStiffness::Committed {
+        springs = springs.with_committed_tangent_damping(&s, beta);
+    }
     let loads: Vec<Vec<f64>> = dofs.iter().map(|d| influence_load(&s, *d)).collect();
     let n = s.dofs.n_free;
     let mut st =
@@ -252,6 +262,16 @@ pub fn run_plan(
         });
     }
     Ok(hist)
+}
+
+/// The stiffness the model's Rayleigh term is proportional to (initial
+/// without damping).
+fn damping_stiffness(model: &Model) -> Result<DampingStiffness, TransientError> {
+    model.damping.as_ref().map_or(Ok(DampingStiffness::Initial), |d| {
+        d.stiffness().map_err(|found| TransientError::Spec {
+            message: format!("damping.stiffness = {found}: expected \"initial\" or \"committed\""),
+        })
+    })
 }
 
 /// `t_s`, the base acceleration column(s), then the recorder names.

@@ -415,6 +415,7 @@ impl<'a> Dynamics<'a> {
         trial: &mut Kinematics,
         springs: &mut SpringStates,
     ) -> Result<usize, NewtonFailure> {
+        springs.begin_step(self.s, step.nm, step.committed);
         if step.settings.condense && step.settings.stale_max_iter == 0 {
             if let Some(mut c) = self.condensed.take() {
                 let res = self.solve_step_condensed(&mut c, step, trial, springs);

@@ -66,7 +66,7 @@ impl Recorders {
                 Channel::Vel(eq) => at(&kin.v, eq),
                 Channel::AccelAbs { eq, ground } => at(&kin.a, eq) + ground.map_or(0.0, |c| ag[c]),
                 Channel::SpringDeformation(k) => springs.deformation_mm[k],
-                Channel::SpringForce(k) => springs.force_n[k],
+                Channel::SpringForce(k) => springs.material_force_n[k],
             });
         }
     }
