@@ -138,3 +138,22 @@ fn bad_damping_is_refused() {
         "damping.stiffness = 1: expected",
     );
 }
+
+#[test]
+fn a_committed_share_needs_the_committed_form_and_0_to_1() {
+    let with = |d: Value| move |v: &mut Value| v["damping"] = d.clone();
+    let mut v = valid();
+    with(json!({"type": "rayleigh", "alphaM": 0.5, "betaK": 1e-3, "stiffness": "committed",
+                "committed_share": 0.25}))(&mut v);
+    let m = parse_model(&v.to_string(), Path::new("m.json")).unwrap();
+    assert_eq!(m.damping.unwrap().committed_share(), Ok(0.25));
+    expect(
+        with(json!({"type": "rayleigh", "alphaM": 0.5, "betaK": 1e-3, "stiffness": "committed",
+                    "committed_share": 1.5})),
+        "damping.committed_share = 1.5: expected a number 0..=1, with stiffness = \"committed\"",
+    );
+    expect(
+        with(json!({"type": "rayleigh", "alphaM": 0.5, "betaK": 1e-3, "committed_share": 0.5})),
+        "damping.committed_share = 0.5: expected",
+    );
+}

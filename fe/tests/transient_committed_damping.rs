@@ -137,3 +137,23 @@ fn a_damped_spring_records_its_material_force() {
     }
     assert!(slipped > 0, "no friction spring slipped: the check would be idle");
 }
+
+#[test]
+fn a_committed_share_runs_between_the_two_forms() {
+    let name = "hysteresis_sx";
+    let share = |s: f64| {
+        let mut m = with_stiffness(model(name), "committed");
+        m.damping.as_mut().unwrap().extra.insert("committed_share".into(), json!(s));
+        run(&m)
+    };
+    assert_eq!(share(0.0).rows, run(&with_stiffness(model(name), "initial")).rows);
+    assert_eq!(share(1.0).rows, run(&model(name)).rows);
+    let half = errors(&share(0.5), name);
+    let initial = errors(&run(&with_stiffness(model(name), "initial")), name);
+    // Half the share misses the committed history, by less than none of it.
+    for ((h, e_half), (_, e_initial)) in half.iter().zip(&initial) {
+        if *e_initial > 1e-3 {
+            assert!(*e_half > 1e-6 && e_half < e_initial, "{h}: {e_half} vs {e_initial}");
+        }
+    }
+}

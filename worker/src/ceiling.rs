@@ -6,7 +6,9 @@
 //! Parameters are the names of `fe::generator::parameters_for` the specimen's
 //! model variant (seed Table 6.1 and the variant's extensions; mm², MPa, mm⁴,
 //! N/mm, N) plus `damping_ratio` (Rayleigh on the first x and y modes) and
-//! `damping_mass_share` (its share on the mass term, 0.5 by default);
+//! `damping_mass_share` (its share on the mass term, 0.5 by default) and
+//! `damping_committed_share` (its stiffness term's share on the flagged
+//! springs' committed tangent, 0 by default);
 //! those not in the study sit at their prior mid-points unless `fixed` sets
 //! them.
 //!
@@ -26,7 +28,7 @@ use std::path::PathBuf;
 use crate::specimen::{base_parameters, read_spec};
 
 use fe::ceiling::sensor::place;
-use fe::ceiling::{check_damping_ratio, check_mass_share};
+use fe::ceiling::{check_damping_ratio, check_share};
 use fe::ceiling::{simulate, BaseInput, CeilingError, SimOptions, Simulation};
 use fe::generator::{generate, CeilingSpec, Parameters};
 use protocol::{History, Outputs};
@@ -43,9 +45,15 @@ pub const DAMPING_RATIO: &str = "damping_ratio";
 /// The study parameter that sets the damping's share on the mass term
 /// (`fe::ceiling::SimOptions::damping_mass_share`; 0.5 unless studied).
 pub const DAMPING_MASS_SHARE: &str = "damping_mass_share";
+/// The study parameter that sets the stiffness term's share on the flagged
+/// springs' committed tangent
+/// (`fe::ceiling::SimOptions::damping_committed_share`; 0 unless studied).
+pub const DAMPING_COMMITTED_SHARE: &str = "damping_committed_share";
 /// The hint that error messages about unknown parameter names end with.
-pub(crate) const SOLVER_HINT: &str = " (or `damping_ratio`, the Rayleigh damping ratio, or \
-                                       `damping_mass_share`, its share on the mass term)";
+pub(crate) const SOLVER_HINT: &str = " (or `damping_ratio`, the Rayleigh damping ratio, \
+                                       `damping_mass_share`, its share on the mass term, or \
+                                       `damping_committed_share`, its stiffness term's share \
+                                       on the committed tangent)";
 
 /// Sets `name` on `opts` when it is a solver parameter (`Some`, with the
 /// check's verdict), `None` when it is a model parameter.
@@ -56,8 +64,9 @@ pub(crate) fn set_solver_parameter(
 ) -> Option<Result<(), String>> {
     match name {
         DAMPING_RATIO => Some(check_damping_ratio(value).map(|()| opts.damping_ratio = value)),
-        DAMPING_MASS_SHARE => {
-            Some(check_mass_share(value).map(|()| opts.damping_mass_share = value))
+        DAMPING_MASS_SHARE => Some(check_share(value).map(|()| opts.damping_mass_share = value)),
+        DAMPING_COMMITTED_SHARE => {
+            Some(check_share(value).map(|()| opts.damping_committed_share = value))
         }
         _ => None,
     }
@@ -66,7 +75,7 @@ pub(crate) fn set_solver_parameter(
 
 /// Whether `name` is a solver parameter rather than a model's.
 pub(crate) fn is_solver_parameter(name: &str) -> bool {
-    name == DAMPING_RATIO || name == DAMPING_MASS_SHARE
+    [DAMPING_RATIO, DAMPING_MASS_SHARE, DAMPING_COMMITTED_SHARE].contains(&name)
 }
 
 /// `[model]` options of `ceiling`.

@@ -40,9 +40,10 @@ pub fn check_damping_ratio(ratio: f64) -> Result<(), String> {
     }
 }
 
-/// `Ok` for a mass share 0 <= share <= 1 ([`RayleighFit::with_mass_share`]),
-/// else the value and what was expected.
-pub fn check_mass_share(share: f64) -> Result<(), String> {
+/// `Ok` for a share 0 <= share <= 1 (on the mass term,
+/// [`RayleighFit::with_mass_share`], or of the stiffness term on the
+/// committed tangent), else the value and what was expected.
+pub fn check_share(share: f64) -> Result<(), String> {
     if (0.0..=1.0).contains(&share) {
         Ok(())
     } else {
@@ -100,9 +101,9 @@ mod tests {
             let e = check_damping_ratio(bad).unwrap_err();
             assert_eq!(e, format!("{bad}: expected 0 <= ratio < 1"));
         }
-        assert!(check_mass_share(0.0).is_ok() && check_mass_share(1.0).is_ok());
+        assert!(check_share(0.0).is_ok() && check_share(1.0).is_ok());
         for bad in [-0.01, 1.01, f64::NAN] {
-            let e = check_mass_share(bad).unwrap_err();
+            let e = check_share(bad).unwrap_err();
             assert_eq!(e, format!("{bad}: expected 0 <= share <= 1"));
         }
     }

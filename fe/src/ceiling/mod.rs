@@ -13,7 +13,7 @@ pub mod prepare;
 pub mod sensor;
 pub mod simulate;
 
-pub use damping::{check_damping_ratio, check_mass_share, rayleigh_on_first_modes, RayleighFit};
+pub use damping::{check_damping_ratio, check_share, rayleigh_on_first_modes, RayleighFit};
 pub use input::{sine_sweep, BaseInput, SineSweep};
 pub use prepare::{prepare, steps_per_sample, PreparedRun};
 pub use sensor::{Direction, Sensor, SensorKind};

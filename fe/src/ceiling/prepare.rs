@@ -7,7 +7,7 @@
 //!
 //! Units: the model's N, mm, s, t; base motion mm/s².
 
-use super::damping::{check_damping_ratio, check_mass_share, rayleigh_on_first_modes, RayleighFit};
+use super::damping::{check_damping_ratio, check_share, rayleigh_on_first_modes, RayleighFit};
 use super::input::BaseInput;
 use super::sensor::{place, Placement, Sensor, SensorKind};
 use super::simulate::{CeilingError, SimOptions};
@@ -93,7 +93,7 @@ pub fn prepare(
         kind: "rayleigh".into(),
         alpha_m_per_s: rayleigh.alpha_m_per_s,
         beta_k_s: rayleigh.beta_k_s,
-        extra: Default::default(),
+        extra: damping_form(opts.damping_committed_share),
     });
     let (nx, ny) = grid_size(spec);
     let placements: Vec<Placement> = sensors
@@ -137,8 +137,9 @@ fn check(input: &BaseInput, opts: &SimOptions) -> Result<(), CeilingError> {
         }
     }
     check_damping_ratio(opts.damping_ratio).or_else(|m| bad(format!("damping_ratio = {m}")))?;
-    check_mass_share(opts.damping_mass_share)
-        .or_else(|m| bad(format!("damping_mass_share = {m}")))?;
+    check_share(opts.damping_mass_share).or_else(|m| bad(format!("damping_mass_share = {m}")))?;
+    check_share(opts.damping_committed_share)
+        .or_else(|m| bad(format!("damping_committed_share = {m}")))?;
     if opts.substeps == 0 {
         return bad("substeps = 0: expected >= 1".into());
     }
@@ -229,6 +230,17 @@ fn spring_recorders(model: &Model, groups: &[String], out: &mut Vec<RecorderSpec
 pub fn steps_per_sample(dt_s: f64, substeps: usize, max_step_s: Option<f64>) -> usize {
     let needed = max_step_s.map_or(1, |h| (dt_s / h * (1.0 - 1e-9)).ceil().max(1.0) as usize);
     substeps.max(needed)
+}
+
+/// The damping block's `stiffness` (and `committed_share`) keys for a share
+/// on the committed tangent: none at 0 (the initial stiffness).
+fn damping_form(committed_share: f64) -> serde_json::Map<String, serde_json::Value> {
+    let mut extra = serde_json::Map::new();
+    if committed_share > 0.0 {
+        extra.insert("stiffness".into(), "committed".into());
+        extra.insert("committed_share".into(), committed_share.into());
+    }
+    extra
 }
 
 #[cfg(test)]

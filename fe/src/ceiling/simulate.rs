@@ -20,6 +20,10 @@ pub struct SimOptions {
     /// and 2·(1 − share) times the Rayleigh pair on the first modes (0.5:
     /// that pair; 1: mass-proportional; 0: stiffness-proportional).
     pub damping_mass_share: f64,
+    /// Share of the stiffness term on the flagged springs' last committed
+    /// tangent rather than their initial stiffness (0: initial, the seed's;
+    /// 1: committed, OpenSees `betaKcomm`).
+    pub damping_committed_share: f64,
     /// Modes computed and reported.
     pub n_modes: usize,
     /// Integration steps per input sample (≥ 1).
@@ -41,6 +45,7 @@ impl Default for SimOptions {
         SimOptions {
             damping_ratio: 0.05,
             damping_mass_share: 0.5,
+            damping_committed_share: 0.0,
             n_modes: 6,
             substeps: 1,
             max_step_s: None,

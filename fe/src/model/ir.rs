@@ -275,6 +275,25 @@ impl Damping {
             Some(v) => Err(v.to_string()),
         }
     }
+
+    /// The share s of the committed-tangent form, for K_R = (1 − s) K₀ +
+    /// s K_committed on the flagged springs: 0 on the initial stiffness;
+    /// `committed_share` (default 1) on the committed tangent. A share
+    /// outside 0..=1, or given with the initial stiffness, is returned as
+    /// found.
+    pub fn committed_share(&self) -> Result<f64, String> {
+        let share = self.extra.get("committed_share");
+        match (self.stiffness(), share) {
+            (Ok(DampingStiffness::Initial), None) => Ok(0.0),
+            (Ok(DampingStiffness::Committed), None) => Ok(1.0),
+            (Ok(DampingStiffness::Committed), Some(v)) => match v.as_f64() {
+                Some(x) if (0.0..=1.0).contains(&x) => Ok(x),
+                _ => Err(v.to_string()),
+            },
+            (_, Some(v)) => Err(v.to_string()),
+            (Err(found), None) => Err(found),
+        }
+    }
 }
 
 /// The analysis block.

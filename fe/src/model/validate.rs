@@ -197,18 +197,20 @@ pub fn validate(model: &Model) -> Result<(), ModelError> {
 /// format knows.
 #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN must fail the check
 fn check_damping(d: &Damping) -> Result<(), ModelError> {
-    let bad = |key, found: String, expected| Err(ModelError::Damping { key, found, expected });
+    let bad = |key, found: String, expected| ModelError::Damping { key, found, expected };
     if d.kind != "rayleigh" {
-        return bad("type", format!("`{}`", d.kind), "`rayleigh`");
+        return Err(bad("type", format!("`{}`", d.kind), "`rayleigh`"));
     }
     for (key, v) in [("alphaM", d.alpha_m_per_s), ("betaK", d.beta_k_s)] {
         if !(v >= 0.0 && v.is_finite()) {
-            return bad(key, v.to_string(), "a finite number >= 0");
+            return Err(bad(key, v.to_string(), "a finite number >= 0"));
         }
     }
-    d.stiffness()
-        .map(|_| ())
-        .or_else(|found| bad("stiffness", found, "\"initial\" or \"committed\""))
+    d.stiffness().map_err(|found| bad("stiffness", found, "\"initial\" or \"committed\""))?;
+    d.committed_share().map_err(|found| {
+        bad("committed_share", found, "a number 0..=1, with stiffness = \"committed\"")
+    })?;
+    Ok(())
 }
 
 fn check_header(model: &Model) -> Result<(), ModelError> {

@@ -33,7 +33,7 @@ pub use newton::{Kinematics, NewtonFailure, NewtonSettings};
 pub use spec::TransientSpec;
 
 use crate::assembly::{AssemblyError, Structure};
-use crate::model::{DampingStiffness, Model};
+use crate::model::Model;
 use newton::Dynamics;
 use recorders::Recorders;
 use springs::SpringStates;
@@ -212,8 +212,9 @@ pub fn run_plan(
     let recs = Recorders::new(plan.recorders, &s, &dofs)?;
     let mut springs = SpringStates::new(&s)
         .map_err(|f| TransientError::Material { spring: f.spring, message: f.error.to_string() })?;
-    if damping_stiffness(model)? == DampingStiffness::Committed {
-        springs = springs.with_committed_tangent_damping(&s, beta);
+    let share = committed_share(model)?;
+    if share > 0.0 {
+        springs = springs.with_committed_tangent_damping(&s, share * beta);
     }
     let loads: Vec<Vec<f64>> = dofs.iter().map(|d| influence_load(&s, *d)).collect();
     let n = s.dofs.n_free;
@@ -264,12 +265,15 @@ pub fn run_plan(
     Ok(hist)
 }
 
-/// The stiffness the model's Rayleigh term is proportional to (initial
-/// without damping).
-fn damping_stiffness(model: &Model) -> Result<DampingStiffness, TransientError> {
-    model.damping.as_ref().map_or(Ok(DampingStiffness::Initial), |d| {
-        d.stiffness().map_err(|found| TransientError::Spec {
-            message: format!("damping.stiffness = {found}: expected \"initial\" or \"committed\""),
+/// The share of the model's Rayleigh stiffness term on the committed
+/// tangent ([`crate::model::Damping::committed_share`]; 0 without damping).
+fn committed_share(model: &Model) -> Result<f64, TransientError> {
+    model.damping.as_ref().map_or(Ok(0.0), |d| {
+        d.committed_share().map_err(|found| TransientError::Spec {
+            message: format!(
+                "damping: stiffness {:?}, committed_share {found}: expected \"initial\", or \"committed\" with a share 0..=1",
+                d.extra.get("stiffness")
+            ),
         })
     })
 }

@@ -61,7 +61,7 @@ impl SpringStates {
     }
 
     /// Damps the flagged nonlinear springs on their committed tangent with
-    /// coefficient β (s) ([`super::tangent_damping`]).
+    /// coefficient s β (s) ([`super::tangent_damping`]).
     pub fn with_committed_tangent_damping(mut self, s: &Structure, beta_k_s: f64) -> Self {
         self.damping = CommittedTangentDamping::of(s, beta_k_s);
         self

@@ -1,9 +1,10 @@
 //! Stiffness-proportional damping on each flagged spring's last committed
-//! tangent (OpenSees `rayleigh αM 0 0 βKcomm`). The structure's damping
-//! matrix keeps β k₀ for every flagged spring ([`super::newton::Dynamics`]);
-//! here each flagged nonlinear spring adds the rest,
+//! tangent (OpenSees `rayleigh αM 0 0 βKcomm`), or on a share s of it
+//! (K_R = (1 − s) K₀ + s K_comm). The structure's damping matrix keeps
+//! β k₀ for every flagged spring ([`super::newton::Dynamics`]); here each
+//! flagged nonlinear spring adds the rest,
 //!
-//!   f_c = c ḋ,  c = β (k_comm − k₀),
+//!   f_c = c ḋ,  c = s β (k_comm − k₀),
 //!
 //! with k_comm its material tangent at the last commit, fixed for the step.
 //! Within a Newmark step the spring's rate is affine in its deformation,
@@ -21,7 +22,7 @@ use crate::materials::MaterialSpec;
 /// The committed-tangent damping of the flagged nonlinear springs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommittedTangentDamping {
-    /// β (s).
+    /// s β (s).
     beta_k_s: f64,
     /// Slot of each spring of the structure (`None`: not damped here).
     slot: Vec<Option<usize>>,
@@ -33,7 +34,7 @@ pub struct CommittedTangentDamping {
     committed_tangent: Vec<f64>,
     /// Material tangent per slot at the last trial (N/mm).
     trial_tangent: Vec<f64>,
-    /// c = β (k_comm − k₀) per slot for the current step (N s/mm).
+    /// c = s β (k_comm − k₀) per slot for the current step (N s/mm).
     coefficient: Vec<f64>,
     /// ḋ at zero trial deformation per slot for the current step (mm/s).
     rate_at_zero: Vec<f64>,
@@ -43,8 +44,8 @@ pub struct CommittedTangentDamping {
 
 impl CommittedTangentDamping {
     /// For the springs of `s` flagged `rayleigh` whose material is not
-    /// elastic (an elastic spring's committed tangent is its initial one);
-    /// `None` when there are none or β is zero.
+    /// elastic (an elastic spring's committed tangent is its initial one),
+    /// with `beta_k_s` = s β; `None` when there are none or it is zero.
     pub fn of(s: &Structure, beta_k_s: f64) -> Option<Self> {
         let spring: Vec<usize> = (0..s.springs.len())
             .filter(|&k| {

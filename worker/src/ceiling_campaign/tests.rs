@@ -239,33 +239,55 @@ fn a_run_index_task_simulates_that_run_alone() {
     }
 }
 
-/// `damping_mass_share` as a study parameter reaches the simulation (the
-/// histories are those of `SimOptions::damping_mass_share`, bit for bit, and
-/// differ from the default's); a share outside [0, 1] fails the task.
-#[test]
-fn the_damping_share_is_a_study_parameter() {
-    let o = options();
-    let names: Vec<String> = ["K_friction", "damping_ratio", "damping_mass_share"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    let m = built_with(&o, names.clone()).unwrap();
+/// A share parameter of the damping reaches the simulation: at `value` the
+/// histories are those of `at_value` (the same share set on `SimOptions`),
+/// bit for bit, and differ from those at `default`; a share outside
+/// [0, 1] fails the task.
+fn share_is_a_study_parameter(
+    o: &CampaignOptions,
+    name: &str,
+    (value, default): (f64, f64),
+    at_value: SimOptions,
+) {
+    let names: Vec<String> =
+        ["K_friction", "damping_ratio", name].iter().map(|s| s.to_string()).collect();
+    let m = built_with(o, names.clone()).unwrap();
     let run = |share: f64| {
         let values = [17.5, 0.05, share];
         m.run(&ParamSet::new(&names, &values).unwrap(), &RunContext::default())
     };
-    let (spec, p, opts) =
-        direct(&o, 17.5, SimOptions { damping_mass_share: 0.9, ..SimOptions::default() });
+    let (spec, p, opts) = direct(o, 17.5, at_value);
     let first = &o.runs[0];
     let fe: Vec<_> = first.sensors.iter().map(SensorOptions::sensor).collect();
     let sim = simulate(&spec, &p, &first.base_input(), &fe, &opts, &mut |_| {}).unwrap();
-    let (at_09, at_05) = (run(0.9).unwrap(), run(0.5).unwrap());
-    assert_eq!(at_09.histories[0].data, sim.sensors[0].values);
-    assert_ne!(at_09.histories[0].data, at_05.histories[0].data);
+    let (at, at_default) = (run(value).unwrap(), run(default).unwrap());
+    assert_eq!(at.histories[0].data, sim.sensors[0].values);
+    assert_ne!(at.histories[0].data, at_default.histories[0].data);
     for bad in [-0.1, 1.5, f64::NAN] {
         let r = run(bad);
-        let ok = matches!(&r, Err(RunError::Input(s)) if s.contains("damping_mass_share = ")
+        let ok = matches!(&r, Err(RunError::Input(s)) if s.contains(&format!("{name} = "))
             && s.contains("expected 0 <= share <= 1"));
         assert!(ok, "{bad}: {r:?}");
     }
+}
+
+/// `damping_mass_share` is a study parameter.
+#[test]
+fn the_damping_share_is_a_study_parameter() {
+    let at = SimOptions { damping_mass_share: 0.9, ..SimOptions::default() };
+    share_is_a_study_parameter(&options(), "damping_mass_share", (0.9, 0.5), at);
+}
+
+/// `damping_committed_share` is a study parameter: on a specimen whose
+/// perimeter slips, damping on the committed tangent changes the histories.
+#[test]
+fn the_committed_share_is_a_study_parameter() {
+    let mut o = options();
+    o.spec_toml = std::fs::read_to_string(
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../configs/specimens/small-3p6.toml"),
+    )
+    .unwrap();
+    let at = SimOptions { damping_committed_share: 1.0, ..SimOptions::default() };
+    share_is_a_study_parameter(&o, "damping_committed_share", (1.0, 0.0), at);
 }
