@@ -7,7 +7,8 @@
 //! that are zero in the reference (y in an x run) must stay at round-off.
 //! The same models damped on the initial stiffness miss these histories (by
 //! more than 1e-3 of a peak: 6 % at the sweep, 0.5 % in the white noise),
-//! and a spring's recorded force is its material's, not its damping's.
+//! and a spring's recorded force is its material's, not its damping's. Half
+//! the share on each form matches OpenSees run with half of β on each.
 
 mod common;
 
@@ -148,12 +149,7 @@ fn a_committed_share_runs_between_the_two_forms() {
     };
     assert_eq!(share(0.0).rows, run(&with_stiffness(model(name), "initial")).rows);
     assert_eq!(share(1.0).rows, run(&model(name)).rows);
-    let half = errors(&share(0.5), name);
-    let initial = errors(&run(&with_stiffness(model(name), "initial")), name);
-    // Half the share misses the committed history, by less than none of it.
-    for ((h, e_half), (_, e_initial)) in half.iter().zip(&initial) {
-        if *e_initial > 1e-3 {
-            assert!(*e_half > 1e-6 && e_half < e_initial, "{h}: {e_half} vs {e_initial}");
-        }
-    }
+    let e = errors(&share(0.5), "hysteresis_sx_share05");
+    eprintln!("share 0.5: {e:?}");
+    assert!(e.iter().all(|(_, x)| *x < 1e-8), "share 0.5 against OpenSees: {e:?}");
 }

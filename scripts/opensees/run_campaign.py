@@ -102,12 +102,15 @@ def excitations(an):
 
 def apply_damping(m, ops, osjson):
     """Rayleigh damping as osjson applies it (initial stiffness), or on the
-    last committed tangent where the damping-tangent variant says so."""
+    last committed tangent where the damping-tangent variant (or a model's
+    committed_share s) says so: (1 - s) betaK initial + s betaK committed."""
     d = m.get("damping")
     if d and d.get("stiffness") == "committed":
         assert d["type"] == "rayleigh", d["type"]
-        # alphaM, betaK(current)=0, betaK(initial)=0, betaK(committed)
-        ops.rayleigh(d["alphaM"], 0.0, 0.0, d["betaK"])
+        s = float(d.get("committed_share", 1.0))
+        assert 0.0 <= s <= 1.0, s
+        # alphaM, betaK(current)=0, betaK(initial), betaK(committed)
+        ops.rayleigh(d["alphaM"], 0.0, (1.0 - s) * d["betaK"], s * d["betaK"])
         return
     osjson.apply_damping(m, ops)
 
