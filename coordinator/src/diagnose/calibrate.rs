@@ -99,6 +99,10 @@ pub struct Calibration {
     pub demand: Option<Demand>,
     /// Gauss–Newton matrix of −log L (unit cube) at the final local step.
     pub gauss_newton: Option<DMatrix<f64>>,
+    /// Share of the flagged springs' Rayleigh stiffness term on their
+    /// committed tangent in every simulation (0: the initial stiffness;
+    /// [`super::damping_form`]).
+    pub committed_share: f64,
 }
 
 impl Calibration {
@@ -251,7 +255,7 @@ pub fn calibrate(
 ) -> Result<Calibration, ExecutorError> {
     let demand = around.map(|a| a.demand);
     let priors = cause.priors();
-    let ev = Evaluation { bundle, cause, priors: &priors, runs, demand };
+    let ev = Evaluation { bundle, cause, priors: &priors, runs, demand, committed_share: 0.0 };
     let course = Course::of(&ev, budget, around);
     let mut report = |done| progress(done, course.planned.get());
     let mut cal = Calibration {
@@ -261,6 +265,7 @@ pub fn calibrate(
         points: Vec::new(),
         demand,
         gauss_newton: None,
+        committed_share: 0.0,
     };
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &course.dims.own };
     search.run_design(&mut cal, &course, &mut report)?;

@@ -155,8 +155,14 @@ fn a_point_repeated_in_a_batch_runs_once() {
     let b = tiny_bundle(dir.path());
     let priors = Cause::None.priors();
     let runs = [0usize];
-    let ev =
-        Evaluation { bundle: &b, cause: Cause::None, priors: &priors, runs: &runs, demand: None };
+    let ev = Evaluation {
+        bundle: &b,
+        cause: Cause::None,
+        priors: &priors,
+        runs: &runs,
+        demand: None,
+        committed_share: 0.0,
+    };
     let (p, q) = (vec![15.0, 0.05], vec![20.0, 0.04]);
     for store in [None, Some(dir.path().join("e.db"))] {
         let mut farm = in_process(store);
@@ -165,4 +171,27 @@ fn a_point_repeated_in_a_batch_runs_once() {
         assert_eq!(out[0], out[2]);
         assert_ne!(out[0], out[1]);
     }
+}
+
+/// An evaluation damped on the committed tangent reaches the farm's
+/// workers as such: the farm gives what `Evaluation::simulate` gives.
+#[test]
+fn the_committed_share_reaches_the_farm() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = tiny_bundle(dir.path());
+    let priors = Cause::PerimeterFriction.priors();
+    let runs = [0usize];
+    let ev = Evaluation {
+        bundle: &b,
+        cause: Cause::PerimeterFriction,
+        priors: &priors,
+        runs: &runs,
+        demand: None,
+        committed_share: 1.0,
+    };
+    let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
+    assert!(ev.assignments(&theta).contains(&("damping_committed_share", 1.0)));
+    let mut farm = in_process(None);
+    let out = farm.simulate(&ev, std::slice::from_ref(&theta)).unwrap();
+    assert_eq!(out[0].as_ref().unwrap(), &ev.simulate(&theta).unwrap());
 }

@@ -38,6 +38,22 @@ impl ChannelFit {
     pub fn nrmse(&self) -> f64 {
         (self.ssr / self.n.max(1) as f64).sqrt() / self.rms_meas.max(1e-300)
     }
+
+    /// One excited, white-residual sample of a unit measurement whose
+    /// −log L under weight 2 is `nll` (SSR = e^nll): tests' points.
+    #[cfg(test)]
+    pub fn with_neg_log_lik(nll: f64) -> Self {
+        ChannelFit {
+            run: "r".into(),
+            sensor: "s".into(),
+            ssr: nll.exp(),
+            n: 1,
+            rho: 0.0,
+            rms_meas: 1.0,
+            excited: true,
+            noise_var: 0.0,
+        }
+    }
 }
 
 /// Spring group of the perimeter along-axis springs (friction / elastic).
@@ -49,6 +65,9 @@ pub const PERIMETER_ACROSS_GROUP: &str = "perimeter_friction_across";
 pub const CONNECTION_GROUP: &str = "connection_axial";
 /// The calibrated parameter that sets the Rayleigh damping ratio.
 pub const DAMPING_RATIO: &str = "damping_ratio";
+/// The solver parameter that puts the flagged springs' Rayleigh stiffness
+/// term on their committed tangent.
+pub const DAMPING_COMMITTED_SHARE: &str = worker::ceiling::DAMPING_COMMITTED_SHARE;
 
 /// One simulated run at a parameter point: (sensor id, samples) in bundle units.
 pub type Simulated = crate::specimen::SensorSeries;
@@ -65,6 +84,17 @@ pub struct Evaluation<'a> {
     pub runs: &'a [usize],
     /// The baseline's demand that extension parameters are scaled by.
     pub demand: Option<Demand>,
+    /// Share of the flagged springs' Rayleigh stiffness term on their
+    /// committed tangent (0: the initial stiffness).
+    pub committed_share: f64,
+}
+
+impl<'a> Evaluation<'a> {
+    /// The baseline with `priors` judged on `runs` (no demand, damped on
+    /// the initial stiffness).
+    pub fn baseline(bundle: &'a Bundle, priors: &'a [Prior], runs: &'a [usize]) -> Self {
+        Evaluation { bundle, cause: Cause::None, priors, runs, demand: None, committed_share: 0.0 }
+    }
 }
 
 impl Evaluation<'_> {
@@ -93,6 +123,9 @@ impl Evaluation<'_> {
                 out.extend(model_parameters(p, *v, &named, &demand));
             }
         }
+        if self.committed_share > 0.0 {
+            out.push((DAMPING_COMMITTED_SHARE, self.committed_share));
+        }
         out
     }
 
@@ -107,6 +140,8 @@ impl Evaluation<'_> {
         for (name, value) in self.assignments(theta) {
             if name == DAMPING_RATIO {
                 opts.damping_ratio = value;
+            } else if name == DAMPING_COMMITTED_SHARE {
+                opts.damping_committed_share = value;
             } else {
                 params.set(name, value).map_err(|e| e.to_string())?;
             }

@@ -44,8 +44,16 @@ pub fn calibrate_linear_part(
         points: Vec::new(),
         demand: ext.demand,
         gauss_newton: None,
+        committed_share: ext.committed_share,
     };
-    let ev = Evaluation { bundle, cause: ext.cause, priors: &ext.priors, runs, demand: ext.demand };
+    let ev = Evaluation {
+        bundle,
+        cause: ext.cause,
+        priors: &ext.priors,
+        runs,
+        demand: ext.demand,
+        committed_share: ext.committed_share,
+    };
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
     let local = budget.local / 2;
     let (_, gn) =

@@ -7,6 +7,7 @@
 use super::calibrate::{calibrate, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
 use super::cause::{Cause, Demand, Prior};
+use super::damping_form::{calibrate_committed_twin, twin_wins};
 use super::ensemble;
 use super::evidence::pga_g;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
@@ -84,6 +85,9 @@ pub struct CandidateResult {
     pub prediction_members: usize,
     /// The calibration runs simulated at the estimate (for the symptoms).
     pub calibration_sims: Vec<Simulated>,
+    /// Share of its damped springs' Rayleigh stiffness term on their
+    /// committed tangent (0: the initial stiffness; [`super::damping_form`]).
+    pub committed_share: f64,
     /// Whether it was selected.
     pub selected: bool,
     /// The variational posterior (selected variant only), or why it could
@@ -109,6 +113,7 @@ impl CandidateResult {
             validation_sims: vec![],
             prediction_members: 0,
             calibration_sims: vec![],
+            committed_share: 0.0,
             selected: false,
             posterior: None,
         }
@@ -225,13 +230,14 @@ pub fn diagnose_with(
     excess_validation_errors(b, &val_runs, &mut results);
     let pick = select(&results, 0.0);
     if pick != 0 {
+        let after = After { b, runs, n_eff: (&n_eff0, &n_eff), held: &held, opts };
         let named = Named { cal: &mut v.cals[pick], part: v.linear_parts[pick].as_ref() };
-        if let Some(r) =
-            refine_named(b, named, runs, (&n_eff0, &n_eff), &held, opts, exec, progress)?
-        {
+        if let Some(r) = after.refine_named(named, exec, progress)? {
             results[pick] = r;
-            excess_validation_errors(b, &val_runs, &mut results);
         }
+        let named = Named { cal: &mut v.cals[pick], part: v.linear_parts[pick].as_ref() };
+        after.committed_form(named, exec, progress, &mut results[pick])?;
+        excess_validation_errors(b, &val_runs, &mut results);
     }
     let pick = select(&results, MISFIT_NATS);
     results[pick].selected = true;
@@ -330,8 +336,7 @@ fn baseline_demand(
     exec: &mut dyn FeExecutor,
 ) -> Result<Demand, DiagnoseError> {
     let priors = Cause::None.priors();
-    let ev =
-        Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs: cal_runs, demand: None };
+    let ev = Evaluation::baseline(b, &priors, cal_runs);
     exec.demand(&ev, &base.theta(best))?.map_err(DiagnoseError::Model)
 }
 
@@ -397,37 +402,103 @@ struct Named<'c> {
     part: Option<&'c Calibration>,
 }
 
-/// Refines the named extension ([`refine`]) and assesses it again; None
-/// when refining evaluated nothing. `n_eff` = (calibration weights,
-/// assessment weights).
-#[allow(clippy::too_many_arguments)]
-fn refine_named(
-    b: &Bundle,
-    named: Named<'_>,
-    (cal_runs, val_runs): (&[usize], &[usize]),
-    (n_eff0, n_eff): (&[f64], &[f64]),
-    held: &Held,
-    opts: &DiagnoseOptions,
-    exec: &mut dyn FeExecutor,
-    progress: &mut dyn FnMut(&str, usize, usize),
-) -> Result<Option<CandidateResult>, DiagnoseError> {
-    let Named { cal, part } = named;
-    let own = cal.priors.len() - Cause::None.priors().len();
-    let walks = refine_walks(&opts.budget, own, campaign_work(b, cal_runs));
-    if walks == 0 {
-        return Ok(None);
+/// What the stages after the named extension's choice share.
+struct After<'x> {
+    b: &'x Bundle,
+    /// (calibration runs, validation runs).
+    runs: (&'x [usize], &'x [usize]),
+    /// (calibration weights, assessment weights).
+    n_eff: (&'x [f64], &'x [f64]),
+    held: &'x Held,
+    opts: &'x DiagnoseOptions,
+}
+
+impl After<'_> {
+    /// The own parameters of `cal`'s extension and the valley walks it
+    /// gets ([`refine_walks`]).
+    fn walks(&self, cal: &Calibration) -> (usize, usize) {
+        let own = cal.priors.len() - Cause::None.priors().len();
+        (own, refine_walks(&self.opts.budget, own, campaign_work(self.b, self.runs.0)))
     }
-    let stage = format!("refining {}", cal.cause.as_str());
-    let planned = planned_runs(&opts.budget, walks, own);
-    let budget = &opts.budget;
-    if !refine(b, cal, cal_runs, n_eff0, budget, walks, exec, &mut |d| {
-        progress(&stage, d, planned)
-    })? {
-        return Ok(None);
+
+    /// [`assess`] of `cal` with its linear part `part`.
+    fn assess(
+        &self,
+        cal: &Calibration,
+        part: Option<&Calibration>,
+        exec: &mut dyn FeExecutor,
+    ) -> Result<CandidateResult, ExecutorError> {
+        let mut r = assess(self.b, cal, self.n_eff.1, self.runs, self.held, exec)?;
+        add_linear_part(&mut r, part, self.n_eff.1);
+        Ok(r)
     }
-    let mut r = assess(b, cal, n_eff, (cal_runs, val_runs), held, exec)?;
-    add_linear_part(&mut r, part, n_eff);
-    Ok(Some(r))
+
+    /// Refines the named extension ([`refine`]) and assesses it again; None
+    /// when refining evaluated nothing.
+    fn refine_named(
+        &self,
+        named: Named<'_>,
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+    ) -> Result<Option<CandidateResult>, DiagnoseError> {
+        let Named { cal, part } = named;
+        let (own, walks) = self.walks(cal);
+        if walks == 0 {
+            return Ok(None);
+        }
+        let stage = format!("refining {}", cal.cause.as_str());
+        let planned = planned_runs(&self.opts.budget, walks, own);
+        let (b, budget) = (self.b, &self.opts.budget);
+        if !refine(b, cal, self.runs.0, self.n_eff.0, budget, walks, exec, &mut |d| {
+            progress(&stage, d, planned)
+        })? {
+            return Ok(None);
+        }
+        Ok(Some(self.assess(cal, part, exec)?))
+    }
+
+    /// Tries the named extension damped on its springs' committed tangent
+    /// ([`super::damping_form`]), searched and refined as the named one
+    /// was: when that twin fits the calibration runs better, it replaces
+    /// the extension's calibration and `result` becomes its assessment
+    /// (with every FE point spent); else `result` only counts the twin's
+    /// FE points.
+    fn committed_form(
+        &self,
+        named: Named<'_>,
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+        result: &mut CandidateResult,
+    ) -> Result<(), DiagnoseError> {
+        let Named { cal, part } = named;
+        let stage = format!("{} damped on the committed tangent", cal.cause.as_str());
+        let (own, walks) = self.walks(cal);
+        let budget = &self.opts.budget;
+        let planned = budget.local + planned_runs(budget, walks, own);
+        let mut report = |d| progress(&stage, d, planned);
+        let (b, runs, n_eff0) = (self.b, self.runs.0, self.n_eff.0);
+        let Some(mut twin) =
+            calibrate_committed_twin(b, cal, runs, n_eff0, budget, exec, &mut report)?
+        else {
+            return Ok(());
+        };
+        if walks > 0 {
+            let searched = twin.fe_points();
+            refine(b, &mut twin, runs, n_eff0, budget, walks, exec, &mut |d| report(searched + d))?;
+        }
+        let wins = twin_wins(cal, &twin, n_eff0);
+        let fe_points = twin.fe_points();
+        tracing::debug!(cause = cal.cause.as_str(), wins, fe_points, "committed-tangent twin");
+        if !wins {
+            result.fe_points += fe_points;
+            return Ok(());
+        }
+        let spent = cal.fe_points();
+        *cal = twin;
+        *result = self.assess(cal, part, exec)?;
+        result.fe_points += spent;
+        Ok(())
+    }
 }
 
 /// Each candidate's validation error in excess of the sensor noise (each
@@ -438,8 +509,7 @@ fn refine_named(
 /// leaves the cleanest view of the noise). Without simulations it stays NaN.
 fn excess_validation_errors(b: &Bundle, val_runs: &[usize], results: &mut [CandidateResult]) {
     let priors = Cause::None.priors();
-    let ev =
-        Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs: val_runs, demand: None };
+    let ev = Evaluation::baseline(b, &priors, val_runs);
     let fits: Vec<Option<Vec<ChannelFit>>> = results
         .iter()
         .map(|r| {
@@ -515,7 +585,7 @@ fn midpoint_weights(
     exec: &mut dyn FeExecutor,
 ) -> Result<Vec<f64>, DiagnoseError> {
     let priors = Cause::None.priors();
-    let ev = Evaluation { bundle: b, cause: Cause::None, priors: &priors, runs, demand: None };
+    let ev = Evaluation::baseline(b, &priors, runs);
     let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
     let sims = one(exec.simulate(&ev, &[theta])?).map_err(DiagnoseError::Model)?;
     Ok(effective_sizes(&ev.channels(&sims)))
@@ -558,6 +628,7 @@ fn assess(
     let mut out = CandidateResult {
         fe_points: cal.fe_points(),
         failed_points: failed,
+        committed_share: cal.committed_share,
         ..CandidateResult::unassessed(cal.cause, m)
     };
     let Some(best) = cal.best(n_eff) else { return Ok(out) };
@@ -622,6 +693,7 @@ fn simulate_estimate(
         priors: &cal.priors,
         runs: val_runs,
         demand: cal.demand,
+        committed_share: cal.committed_share,
     };
     let (sims, members) = predict(&ev, cal, &cal.points[best].u, exec)?;
     out.prediction_members = members;

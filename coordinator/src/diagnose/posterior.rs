@@ -255,16 +255,7 @@ mod tests {
     fn calibration(nll: &dyn Fn(&[f64]) -> f64, us: &[Vec<f64>], h: DMatrix<f64>) -> Calibration {
         let point = |u: &Vec<f64>| Point {
             u: u.clone(),
-            fit: Ok(vec![ChannelFit {
-                run: "r".into(),
-                sensor: "s".into(),
-                ssr: nll(u).exp(),
-                n: 1,
-                rho: 0.0,
-                rms_meas: 1.0,
-                excited: true,
-                noise_var: 0.0,
-            }]),
+            fit: Ok(vec![ChannelFit::with_neg_log_lik(nll(u))]),
             coarse: 0.0,
         };
         Calibration {
@@ -274,6 +265,7 @@ mod tests {
             points: us.iter().map(point).collect(),
             demand: None,
             gauss_newton: Some(h),
+            committed_share: 0.0,
         }
     }
 

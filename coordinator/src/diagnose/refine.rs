@@ -62,7 +62,14 @@ pub fn refine(
     };
     let priors = cal.priors.clone();
     let own: Vec<usize> = (Cause::None.priors().len()..priors.len()).collect();
-    let ev = Evaluation { bundle, cause: cal.cause, priors: &priors, runs, demand: cal.demand };
+    let ev = Evaluation {
+        bundle,
+        cause: cal.cause,
+        priors: &priors,
+        runs,
+        demand: cal.demand,
+        committed_share: cal.committed_share,
+    };
     let before = cal.points.len();
     let mut start = (cal.points[best].u.clone(), Some(gn));
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };

@@ -38,6 +38,11 @@ pub struct CandidateJson {
     pub linear_part_mdl: Option<f64>,
     /// MDL terms: fit, parametric, geometric (nats).
     pub mdl_terms: Option<[f64; 3]>,
+    /// `committed` when its springs are damped on their committed tangent
+    /// rather than their initial stiffness (`super::damping_form`); absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damping_stiffness: Option<String>,
     /// Parameters k.
     pub k: usize,
     /// FE parameter points spent.
@@ -197,6 +202,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 calibration_excess_error: c.calibration_excess_error,
                 linear_part_mdl: c.linear_part_mdl,
                 mdl_terms: c.mdl.as_ref().map(|m| [m.fit, m.parametric, m.geometric]),
+                damping_stiffness: (c.committed_share > 0.0).then(|| "committed".into()),
                 k: c.cause.priors().len(),
                 fe_points: c.fe_points,
                 parameters: c.estimates.iter().map(|e| (e.name.clone(), e.value)).collect(),
