@@ -10,12 +10,12 @@
 //! whole diagnosis ran in the committed form.
 //!
 //! So once the named extension is refined, its twin damped on the
-//! committed tangent is searched from its estimate (a Levenberg–Marquardt
-//! search over every parameter); the twin replaces it only when it fits the
-//! calibration runs better by more than [`FORM_NATS`]. Both forms have the
-//! same parameters, so the fit decides.
+//! committed tangent is searched ([`calibrate_committed_twin`], then
+//! refined as the extension was); the twin replaces it only when it fits
+//! the calibration runs better by more than [`FORM_NATS`]. Both forms have
+//! the same parameters, so the fit decides.
 
-use super::calibrate::{Budget, Calibration, Scale, Search};
+use super::calibrate::{point_value, Budget, Calibration, Scale, Search};
 use super::cause::Cause;
 use super::executor::{ExecutorError, FeExecutor};
 use super::fit::Evaluation;
@@ -33,11 +33,15 @@ pub fn has_damped_nonlinear_springs(cause: Cause) -> bool {
 }
 
 /// Calibrates the twin of the extension calibrated in `ext`, damped on its
-/// springs' committed tangent, on `runs` (weights `n_eff`): a
-/// Levenberg–Marquardt search of `budget.local` FE runs over every
-/// parameter from the extension's estimate. None when the extension has no
-/// damped nonlinear springs or no estimate. `progress` hears the FE points
-/// the search has spent.
+/// springs' committed tangent, on `runs` (weights `n_eff`): two
+/// Levenberg–Marquardt searches of `budget.local` FE runs each over every
+/// parameter, from the extension's estimate and from there with its own
+/// parameters at their prior mid-points (in the other form the estimate
+/// can sit at a prior's edge far from the twin's optimum: a connection's
+/// first force at the bottom where the twin's lay at 0.22 of 0.05..0.8);
+/// the Gauss–Newton matrix is the better end's. None when the extension
+/// has no damped nonlinear springs or no estimate. `progress` hears the FE
+/// points the searches have spent.
 pub fn calibrate_committed_twin(
     bundle: &Bundle,
     ext: &Calibration,
@@ -71,10 +75,22 @@ pub fn calibrate_committed_twin(
         committed_share: twin.committed_share,
     };
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
-    let start = ext.points[best].u.clone();
-    let (_, gn) =
-        search.levenberg_marquardt(&mut twin, Scale::Fine, start, &all, budget.local, progress)?;
-    twin.gauss_newton = gn;
+    let from_estimate = ext.points[best].u.clone();
+    let mut from_mid = from_estimate.clone();
+    own.iter().for_each(|&i| from_mid[i] = 0.5);
+    let mut ends = Vec::new();
+    for start in [from_estimate, from_mid] {
+        let (u, gn) = search.levenberg_marquardt(
+            &mut twin,
+            Scale::Fine,
+            start,
+            &all,
+            budget.local,
+            progress,
+        )?;
+        ends.push((point_value(&twin, &u, n_eff), gn));
+    }
+    twin.gauss_newton = ends.into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).and_then(|e| e.1);
     Ok(Some(twin))
 }
 

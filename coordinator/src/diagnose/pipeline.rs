@@ -474,7 +474,7 @@ impl After<'_> {
         let stage = format!("{} damped on the committed tangent", cal.cause.as_str());
         let (own, walks) = self.walks(cal);
         let budget = &self.opts.budget;
-        let planned = budget.local + planned_runs(budget, walks, own);
+        let planned = 2 * budget.local + planned_runs(budget, walks, own);
         let mut report = |d| progress(&stage, d, planned);
         let (b, runs, n_eff0) = (self.b, self.runs.0, self.n_eff.0);
         let Some(mut twin) =
