@@ -22,6 +22,7 @@ use faer::linalg::solvers::{PartialPivLu, SolveCore};
 use faer::{Conj, Mat, MatMut};
 
 use super::factor_cache::{FactorCache, TangentFactor};
+use super::low_rank::w_dot;
 use super::newmark::NewmarkConstants;
 use super::newton::{Dynamics, Kinematics, NewtonFailure, NewtonSettings, Step};
 use super::round_off::at_round_off;
@@ -79,12 +80,6 @@ pub struct Condensed {
     dense: DenseSystem,
     /// An upper bound on ‖W‖₂: √(2 × most nonlinear springs on one equation).
     w_norm: f64,
-}
-
-/// wᵀ x for w = e_j − e_i.
-#[inline]
-fn w_dot(eqs: &[Option<usize>; 2], x: &[f64]) -> f64 {
-    eqs[1].map_or(0.0, |e| x[e]) - eqs[0].map_or(0.0, |e| x[e])
 }
 
 /// out += A c for A column-major with `rows` rows, skipping zeros of `c`

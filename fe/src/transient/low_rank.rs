@@ -17,9 +17,10 @@ use super::factor_cache::TangentFactor;
 /// Equations of a spring's two nodes in its DOF.
 pub type SpringEqs = [Option<usize>; 2];
 
-/// wᵀ x for w = e_j − e_i.
+/// wᵀ x for w = e_j − e_i: a spring's deformation (or its rate, ...) from
+/// the free-DOF vector `x` (a fixed node contributes 0).
 #[inline]
-fn w_dot(eqs: &SpringEqs, x: &[f64]) -> f64 {
+pub(super) fn w_dot(eqs: &SpringEqs, x: &[f64]) -> f64 {
     eqs[1].map_or(0.0, |e| x[e]) - eqs[0].map_or(0.0, |e| x[e])
 }
 

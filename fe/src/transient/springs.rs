@@ -7,6 +7,7 @@
 //!
 //! Units: deformation mm, force N, tangent N/mm.
 
+use super::low_rank::w_dot;
 use super::newmark::NewmarkConstants;
 use super::newton::Kinematics;
 use super::tangent_damping::CommittedTangentDamping;
@@ -84,16 +85,8 @@ impl SpringStates {
 
     /// Sets every spring's trial deformation from the free-DOF displacements.
     pub fn set_trial(&mut self, s: &Structure, u: &[f64]) -> Result<(), SpringFailure> {
-        for (k, (sp, m)) in s.springs.iter().zip(self.materials.iter_mut()).enumerate() {
-            let ui = sp.eqs[0].map_or(0.0, |e| u[e]);
-            let uj = sp.eqs[1].map_or(0.0, |e| u[e]);
-            let d = uj - ui;
-            let (f, kt) = m.trial(d).map_err(|error| SpringFailure { spring: sp.id, error })?;
-            let (fc, kc) = self.damping.as_mut().map_or((0.0, 0.0), |dm| dm.trial(k, d, kt));
-            self.deformation_mm[k] = d;
-            self.material_force_n[k] = f;
-            self.force_n[k] = f + fc;
-            self.tangent_n_mm[k] = kt + kc;
+        for (k, sp) in s.springs.iter().enumerate() {
+            self.set_trial_one(s, k, w_dot(&sp.eqs, u))?;
         }
         Ok(())
     }

@@ -14,6 +14,7 @@
 //!
 //! Units: deformation mm, rate mm/s, force N, coefficient N s/mm.
 
+use super::low_rank::w_dot;
 use super::newmark::NewmarkConstants;
 use super::newton::Kinematics;
 use crate::assembly::Structure;
@@ -86,8 +87,7 @@ impl CommittedTangentDamping {
         self.c_damp = nm.c_damp;
         for (i, &k) in self.spring.iter().enumerate() {
             let eqs = &s.springs[k].eqs;
-            let rel = |x: &[f64]| eqs[1].map_or(0.0, |e| x[e]) - eqs[0].map_or(0.0, |e| x[e]);
-            let (v0, a0) = (rel(&committed.v), rel(&committed.a));
+            let (v0, a0) = (w_dot(eqs, &committed.v), w_dot(eqs, &committed.a));
             self.rate_at_zero[i] = nm.update(0.0, deformation_mm[k], v0, a0).0;
             self.coefficient[i] = self.beta_k_s * (self.committed_tangent[i] - self.k0[i]);
         }
@@ -101,12 +101,6 @@ impl CommittedTangentDamping {
         self.trial_tangent[i] = kt_n_mm;
         let c = self.coefficient[i];
         (c * (self.rate_at_zero[i] + self.c_damp * d_mm), c * self.c_damp)
-    }
-
-    /// The damping force (N) spring `k` carries at deformation `d_mm`.
-    pub fn force(&self, k: usize, d_mm: f64) -> f64 {
-        self.slot[k]
-            .map_or(0.0, |i| self.coefficient[i] * (self.rate_at_zero[i] + self.c_damp * d_mm))
     }
 
     /// Number of springs damped here.
