@@ -106,6 +106,32 @@ pub struct Calibration {
 }
 
 impl Calibration {
+    /// A calibration of the same variant, form and demand with no points
+    /// yet, varying `free`.
+    pub fn restarted(&self, free: Vec<usize>) -> Calibration {
+        Calibration {
+            cause: self.cause,
+            priors: self.priors.clone(),
+            free,
+            points: Vec::new(),
+            demand: self.demand,
+            gauss_newton: None,
+            committed_share: self.committed_share,
+        }
+    }
+
+    /// Its variant judged on `runs` of `bundle`.
+    pub fn evaluation<'a>(&'a self, bundle: &'a Bundle, runs: &'a [usize]) -> Evaluation<'a> {
+        Evaluation {
+            bundle,
+            cause: self.cause,
+            priors: &self.priors,
+            runs,
+            demand: self.demand,
+            committed_share: self.committed_share,
+        }
+    }
+
     /// FE parameter points evaluated (each simulating every calibration run).
     pub fn fe_points(&self) -> usize {
         self.points.len()

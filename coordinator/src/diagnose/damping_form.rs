@@ -57,23 +57,8 @@ pub fn calibrate_committed_twin(
     let Some(best) = ext.best(n_eff) else { return Ok(None) };
     let all: Vec<usize> = (0..ext.priors.len()).collect();
     let own: Vec<usize> = (Cause::None.priors().len()..ext.priors.len()).collect();
-    let mut twin = Calibration {
-        cause: ext.cause,
-        priors: ext.priors.clone(),
-        free: all.clone(),
-        points: Vec::new(),
-        demand: ext.demand,
-        gauss_newton: None,
-        committed_share: 1.0,
-    };
-    let ev = Evaluation {
-        bundle,
-        cause: ext.cause,
-        priors: &ext.priors,
-        runs,
-        demand: ext.demand,
-        committed_share: twin.committed_share,
-    };
+    let mut twin = Calibration { committed_share: 1.0, ..ext.restarted(all.clone()) };
+    let ev = Evaluation { committed_share: twin.committed_share, ..ext.evaluation(bundle, runs) };
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
     let from_estimate = ext.points[best].u.clone();
     let mut from_mid = from_estimate.clone();

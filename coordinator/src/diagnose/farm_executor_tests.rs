@@ -155,14 +155,7 @@ fn a_point_repeated_in_a_batch_runs_once() {
     let b = tiny_bundle(dir.path());
     let priors = Cause::None.priors();
     let runs = [0usize];
-    let ev = Evaluation {
-        bundle: &b,
-        cause: Cause::None,
-        priors: &priors,
-        runs: &runs,
-        demand: None,
-        committed_share: 0.0,
-    };
+    let ev = Evaluation::baseline(&b, &priors, &runs);
     let (p, q) = (vec![15.0, 0.05], vec![20.0, 0.04]);
     for store in [None, Some(dir.path().join("e.db"))] {
         let mut farm = in_process(store);

@@ -37,14 +37,7 @@ fn a_disturbed_lead_in_does_not_count_against_a_models_prediction() {
     let (_, d1) = b.runs[2].sensors.iter_mut().find(|(id, _)| id == "D1").unwrap();
     d1[..50].iter_mut().for_each(|v| *v += 0.1);
     let priors = Cause::None.priors();
-    let ev = Evaluation {
-        bundle: &b,
-        cause: Cause::None,
-        priors: &priors,
-        runs: &[2],
-        demand: None,
-        committed_share: 0.0,
-    };
+    let ev = Evaluation::baseline(&b, &priors, &[2]);
     let at = |fits: Vec<ChannelFit>| fits.into_iter().find(|c| c.sensor == "D1").unwrap();
     let (fitted, pre_event) = (at(ev.validation_channels(truth)), at(ev.channels(truth)));
     assert!(excess(&fitted) < 0.01, "fitted offset: {}", excess(&fitted));

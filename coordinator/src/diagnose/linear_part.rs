@@ -10,7 +10,6 @@
 use super::calibrate::{Budget, Calibration, Scale, Search};
 use super::cause::Cause;
 use super::executor::{ExecutorError, FeExecutor};
-use super::fit::Evaluation;
 use crate::bundle::Bundle;
 
 /// Calibrates the linear part of the extension calibrated in `ext` on runs
@@ -37,23 +36,8 @@ pub fn calibrate_linear_part(
     let own: Vec<usize> = (n_base..ext.priors.len()).collect();
     let mut start = ext.points[best].u.clone();
     start[onset] = 1.0;
-    let mut twin = Calibration {
-        cause: ext.cause,
-        priors: ext.priors.clone(),
-        free: linear.clone(),
-        points: Vec::new(),
-        demand: ext.demand,
-        gauss_newton: None,
-        committed_share: ext.committed_share,
-    };
-    let ev = Evaluation {
-        bundle,
-        cause: ext.cause,
-        priors: &ext.priors,
-        runs,
-        demand: ext.demand,
-        committed_share: ext.committed_share,
-    };
+    let mut twin = ext.restarted(linear.clone());
+    let ev = ext.evaluation(bundle, runs);
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
     let local = budget.local / 2;
     let (_, gn) =

@@ -687,14 +687,7 @@ fn simulate_estimate(
     exec: &mut dyn FeExecutor,
     out: &mut CandidateResult,
 ) -> Result<(), ExecutorError> {
-    let ev = Evaluation {
-        bundle: b,
-        cause: cal.cause,
-        priors: &cal.priors,
-        runs: val_runs,
-        demand: cal.demand,
-        committed_share: cal.committed_share,
-    };
+    let ev = cal.evaluation(b, val_runs);
     let (sims, members) = predict(&ev, cal, &cal.points[best].u, exec)?;
     out.prediction_members = members;
     if let Some(sims) = sims {
