@@ -76,7 +76,7 @@ impl SpringStates {
         dmp.begin_step(s, nm, committed, &self.deformation_mm);
         for i in 0..dmp.len() {
             let k = dmp.spring(i);
-            let kt = dmp.committed_tangent(i);
+            let kt = dmp.committed_tangent_n_mm(i);
             let (fc, kc) = dmp.trial(k, self.deformation_mm[k], kt);
             self.force_n[k] = self.material_force_n[k] + fc;
             self.tangent_n_mm[k] = kt + kc;

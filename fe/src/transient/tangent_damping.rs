@@ -12,7 +12,7 @@
 //! its trial deformation and c γ/(βΔt) joins its tangent: both Newton paths
 //! then see it like any other spring force.
 //!
-//! Units: deformation mm, rate mm/s, force N, coefficient N s/mm.
+//! Units: deformation mm, rate mm/s, force N, damping coefficient N s/mm.
 
 use super::low_rank::w_dot;
 use super::newmark::NewmarkConstants;
@@ -30,17 +30,17 @@ pub struct CommittedTangentDamping {
     /// Spring index of each slot.
     spring: Vec<usize>,
     /// Initial tangent per slot (N/mm).
-    k0: Vec<f64>,
+    k0_n_mm: Vec<f64>,
     /// Material tangent per slot at the last commit (N/mm).
-    committed_tangent: Vec<f64>,
+    committed_tangent_n_mm: Vec<f64>,
     /// Material tangent per slot at the last trial (N/mm).
-    trial_tangent: Vec<f64>,
+    trial_tangent_n_mm: Vec<f64>,
     /// c = s β (k_comm − k₀) per slot for the current step (N s/mm).
-    coefficient: Vec<f64>,
+    coefficient_n_s_mm: Vec<f64>,
     /// ḋ at zero trial deformation per slot for the current step (mm/s).
-    rate_at_zero: Vec<f64>,
+    rate_at_zero_mm_s: Vec<f64>,
     /// ∂ḋ/∂d = γ/(βΔt) of the current step (1/s).
-    c_damp: f64,
+    c_damp_per_s: f64,
 }
 
 impl CommittedTangentDamping {
@@ -59,19 +59,19 @@ impl CommittedTangentDamping {
         }
         let mut slot = vec![None; s.springs.len()];
         spring.iter().enumerate().for_each(|(i, &k)| slot[k] = Some(i));
-        let k0: Vec<f64> =
+        let k0_n_mm: Vec<f64> =
             spring.iter().map(|&k| s.springs[k].material.initial_tangent()).collect();
         let m = spring.len();
         Some(CommittedTangentDamping {
             beta_k_s,
             slot,
             spring,
-            committed_tangent: k0.clone(),
-            trial_tangent: k0.clone(),
-            k0,
-            coefficient: vec![0.0; m],
-            rate_at_zero: vec![0.0; m],
-            c_damp: 0.0,
+            committed_tangent_n_mm: k0_n_mm.clone(),
+            trial_tangent_n_mm: k0_n_mm.clone(),
+            k0_n_mm,
+            coefficient_n_s_mm: vec![0.0; m],
+            rate_at_zero_mm_s: vec![0.0; m],
+            c_damp_per_s: 0.0,
         })
     }
 
@@ -84,12 +84,13 @@ impl CommittedTangentDamping {
         committed: &Kinematics,
         deformation_mm: &[f64],
     ) {
-        self.c_damp = nm.c_damp;
+        self.c_damp_per_s = nm.c_damp;
         for (i, &k) in self.spring.iter().enumerate() {
             let eqs = &s.springs[k].eqs;
             let (v0, a0) = (w_dot(eqs, &committed.v), w_dot(eqs, &committed.a));
-            self.rate_at_zero[i] = nm.update(0.0, deformation_mm[k], v0, a0).0;
-            self.coefficient[i] = self.beta_k_s * (self.committed_tangent[i] - self.k0[i]);
+            self.rate_at_zero_mm_s[i] = nm.update(0.0, deformation_mm[k], v0, a0).0;
+            self.coefficient_n_s_mm[i] =
+                self.beta_k_s * (self.committed_tangent_n_mm[i] - self.k0_n_mm[i]);
         }
     }
 
@@ -98,9 +99,9 @@ impl CommittedTangentDamping {
     /// (remembered for the next commit); zeros for a spring not damped here.
     pub fn trial(&mut self, k: usize, d_mm: f64, kt_n_mm: f64) -> (f64, f64) {
         let Some(i) = self.slot[k] else { return (0.0, 0.0) };
-        self.trial_tangent[i] = kt_n_mm;
-        let c = self.coefficient[i];
-        (c * (self.rate_at_zero[i] + self.c_damp * d_mm), c * self.c_damp)
+        self.trial_tangent_n_mm[i] = kt_n_mm;
+        let c = self.coefficient_n_s_mm[i];
+        (c * (self.rate_at_zero_mm_s[i] + self.c_damp_per_s * d_mm), c * self.c_damp_per_s)
     }
 
     /// Number of springs damped here.
@@ -119,17 +120,17 @@ impl CommittedTangentDamping {
     }
 
     /// The material tangent of slot `i` at the last commit (N/mm).
-    pub fn committed_tangent(&self, i: usize) -> f64 {
-        self.committed_tangent[i]
+    pub fn committed_tangent_n_mm(&self, i: usize) -> f64 {
+        self.committed_tangent_n_mm[i]
     }
 
     /// Keeps the trial material tangents as the committed ones.
     pub fn commit(&mut self) {
-        self.committed_tangent.clone_from(&self.trial_tangent);
+        self.committed_tangent_n_mm.clone_from(&self.trial_tangent_n_mm);
     }
 
     /// Returns the trial material tangents to the committed ones.
     pub fn revert(&mut self) {
-        self.trial_tangent.clone_from(&self.committed_tangent);
+        self.trial_tangent_n_mm.clone_from(&self.committed_tangent_n_mm);
     }
 }
