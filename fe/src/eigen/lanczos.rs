@@ -80,27 +80,13 @@ pub fn shift_invert_lanczos(
         basis.push(next, &mut op);
         let full = basis.len >= available;
         let images = basis.projected_last_images();
-        let look = basis.len >= n_modes && (skip == 0 || full);
-        skip = skip.saturating_sub(1);
-        if look {
-            let Some(ritz) = basis.ritz(n_modes) else {
-                let steps = basis.len;
-                return Err(EigenError::NoConvergence { converged: 0, requested: n_modes, steps });
-            };
-            let estimated = ritz.estimates(&images, basis.len);
-            let worst = ritz.worst_ratio(&estimated, settings.tol);
-            skip = blocks_to_skip(worst);
-            if full || worst <= 1.0 {
-                let residuals = basis.residuals(&ritz);
-                let converged = ritz.converged(&residuals, settings.tol);
-                if converged == n_modes {
-                    return Ok(finish(settings.shift, &basis, &ritz));
-                }
-                if full {
-                    let steps = basis.len;
-                    return Err(EigenError::NoConvergence { converged, requested: n_modes, steps });
-                }
+        if basis.len >= n_modes && (skip == 0 || full) {
+            match look(&basis, &images, n_modes, settings, full)? {
+                Look::Done(pairs) => return Ok(pairs),
+                Look::Again(blocks) => skip = blocks,
             }
+        } else {
+            skip = skip.saturating_sub(1);
         }
         next = basis.orthonormalize(images.0, &images.1);
         if next.ncols() == 0 {
@@ -111,6 +97,42 @@ pub fn shift_invert_lanczos(
             return Err(EigenError::NoConvergence { converged: 0, requested: n_modes, steps });
         }
     }
+}
+
+/// What one Rayleigh-Ritz look at the basis decides.
+enum Look {
+    /// Every requested pair has converged.
+    Done(Eigenpairs),
+    /// Grow the basis; look again after this many more blocks.
+    Again(usize),
+}
+
+/// A Rayleigh-Ritz look: the cheap residual estimates first, the explicit
+/// residuals once every estimate passes (or the basis can grow no more, when
+/// anything short of convergence is an error).
+fn look(
+    basis: &Basis,
+    images: &(Mat<f64>, Vec<f64>),
+    n_modes: usize,
+    settings: &LanczosSettings,
+    full: bool,
+) -> Result<Look, EigenError> {
+    let stuck =
+        |converged| EigenError::NoConvergence { converged, requested: n_modes, steps: basis.len };
+    let ritz = basis.ritz(n_modes).ok_or_else(|| stuck(0))?;
+    let estimated = ritz.estimates(images, basis.len);
+    let worst = ritz.worst_ratio(&estimated, settings.tol);
+    if full || worst <= 1.0 {
+        let residuals = basis.residuals(&ritz);
+        let converged = ritz.converged(&residuals, settings.tol);
+        if converged == n_modes {
+            return Ok(Look::Done(finish(settings.shift, basis, &ritz)));
+        }
+        if full {
+            return Err(stuck(converged));
+        }
+    }
+    Ok(Look::Again(blocks_to_skip(worst)))
 }
 
 /// Blocks to add before the next Rayleigh-Ritz look, from the worst ratio
