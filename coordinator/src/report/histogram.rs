@@ -52,14 +52,7 @@ pub struct Histogram {
 /// Draw `hist` as a standalone SVG element.
 pub fn histogram(hist: &Histogram) -> Result<String, ReportError> {
     hist.size.check(&hist.title)?;
-    let mut s: Vec<f64> = hist.samples.iter().copied().filter(|v| v.is_finite()).collect();
-    if s.is_empty() {
-        return Err(ReportError::Empty {
-            plot: hist.title.clone(),
-            what: "no finite sample".into(),
-        });
-    }
-    s.sort_by(f64::total_cmp);
+    let s = finite_sorted(hist)?;
     let n_bins = bin_count(hist, &s)?;
     let (edges, density) = bin(&s, n_bins);
     let extra =
@@ -87,34 +80,45 @@ pub fn histogram(hist: &Histogram) -> Result<String, ReportError> {
     if let Some(p) = &hist.prior {
         band(&mut svg, &x, &y, p);
     }
+    bars(&mut svg, &x, &y, &edges, &density);
+    markers(&mut svg, &x, &y, &hist.markers);
+    Ok(svg.finish())
+}
+
+/// The finite samples of `hist`, sorted; an error when there are none.
+fn finite_sorted(hist: &Histogram) -> Result<Vec<f64>, ReportError> {
+    let mut s: Vec<f64> = hist.samples.iter().copied().filter(|v| v.is_finite()).collect();
+    if s.is_empty() {
+        return Err(ReportError::Empty {
+            plot: hist.title.clone(),
+            what: "no finite sample".into(),
+        });
+    }
+    s.sort_by(f64::total_cmp);
+    Ok(s)
+}
+
+/// One bar per bin from the x axis up to its density.
+fn bars(svg: &mut Svg, x: &Axis, y: &Axis, edges: &[f64], density: &[f64]) {
     let zero = y.map(0.0).unwrap_or(y.px_lo);
     for (k, d) in density.iter().enumerate() {
         let (Some(a), Some(b), Some(top)) = (x.map(edges[k]), x.map(edges[k + 1]), y.map(*d))
         else {
             continue;
         };
-        svg.rect(
-            a,
-            top,
-            (b - a).max(1.0),
-            zero - top,
-            series_colour(1),
-            0.75,
-            Some(Stroke::solid("#fff", 0.5)),
-        );
+        let outline = Some(Stroke::solid("#fff", 0.5));
+        svg.rect(a, top, (b - a).max(1.0), zero - top, series_colour(1), 0.75, outline);
     }
-    for (i, m) in hist.markers.iter().enumerate() {
+}
+
+/// A dashed vertical line per marker, coloured as its legend entry.
+fn markers(svg: &mut Svg, x: &Axis, y: &Axis, markers: &[Marker]) {
+    for (i, m) in markers.iter().enumerate() {
         if let Some(p) = x.map(m.x) {
-            svg.line(
-                p,
-                y.px_hi,
-                p,
-                y.px_lo,
-                Stroke { colour: series_colour(i + 2), width: 2.0, dash: Some("6 3") },
-            );
+            let stroke = Stroke { colour: series_colour(i + 2), width: 2.0, dash: Some("6 3") };
+            svg.line(p, y.px_hi, p, y.px_lo, stroke);
         }
     }
-    Ok(svg.finish())
 }
 
 fn legend(hist: &Histogram) -> Vec<LegendItem> {
