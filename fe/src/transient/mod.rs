@@ -37,7 +37,7 @@ use crate::model::Model;
 use newton::Dynamics;
 use recorders::Recorders;
 use springs::SpringStates;
-use subdivision::{advance, StepControl, StepState};
+use subdivision::{advance, StepControl, StepCost, StepState};
 
 /// Why a transient run could not be set up or did not finish.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -210,16 +210,8 @@ pub fn run_plan(
         model.damping.as_ref().map_or((0.0, 0.0), |d| (d.alpha_m_per_s, d.beta_k_s));
     let dofs: Vec<u8> = ground.components.iter().map(|g| g.dof).collect();
     let recs = Recorders::new(plan.recorders, &s, &dofs)?;
-    let mut springs = SpringStates::new(&s)
-        .map_err(|f| TransientError::Material { spring: f.spring, message: f.error.to_string() })?;
-    let share = committed_share(model)?;
-    if share > 0.0 {
-        springs = springs.with_committed_tangent_damping(&s, share * beta);
-    }
+    let mut st = at_rest(model, &s, beta)?;
     let loads: Vec<Vec<f64>> = dofs.iter().map(|d| influence_load(&s, *d)).collect();
-    let n = s.dofs.n_free;
-    let mut st =
-        StepState { committed: Kinematics::zeros(n), trial: Kinematics::zeros(n), springs };
     let mut sys = Dynamics::new(&s, alpha, beta, opts.cholesky);
     let ctl = StepControl {
         gamma: plan.gamma,
@@ -249,20 +241,45 @@ pub fn run_plan(
         if step % every == 0 {
             push_row(&mut hist, &recs, &st, ground, t);
         }
-        observer(&StepReport {
-            step,
-            n_steps,
-            t_s: t,
-            iterations: cost.iterations,
-            substeps: cost.substeps,
-            factorizations: sys.factorizations,
-            low_rank_updates: sys.low_rank_updates,
-            column_solves: sys.column_solves(),
-            stale_iterations: sys.stale_iterations,
-            dense_factorizations: sys.dense_factorizations(),
-        });
+        observer(&step_report(step, n_steps, t, &cost, &sys));
     }
     Ok(hist)
+}
+
+/// The state at rest and undeformed, springs at their initial state (with
+/// the committed-tangent share of the Rayleigh term `beta`, if the model's
+/// damping asks for one).
+fn at_rest(model: &Model, s: &Structure, beta: f64) -> Result<StepState, TransientError> {
+    let mut springs = SpringStates::new(s)
+        .map_err(|f| TransientError::Material { spring: f.spring, message: f.error.to_string() })?;
+    let share = committed_share(model)?;
+    if share > 0.0 {
+        springs = springs.with_committed_tangent_damping(s, share * beta);
+    }
+    let n = s.dofs.n_free;
+    Ok(StepState { committed: Kinematics::zeros(n), trial: Kinematics::zeros(n), springs })
+}
+
+/// What the observer hears after `step` of `n_steps` (time `t_s`).
+fn step_report(
+    step: usize,
+    n_steps: usize,
+    t_s: f64,
+    cost: &StepCost,
+    sys: &Dynamics<'_>,
+) -> StepReport {
+    StepReport {
+        step,
+        n_steps,
+        t_s,
+        iterations: cost.iterations,
+        substeps: cost.substeps,
+        factorizations: sys.factorizations,
+        low_rank_updates: sys.low_rank_updates,
+        column_solves: sys.column_solves(),
+        stale_iterations: sys.stale_iterations,
+        dense_factorizations: sys.dense_factorizations(),
+    }
 }
 
 /// The share of the model's Rayleigh stiffness term on the committed
