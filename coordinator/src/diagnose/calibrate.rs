@@ -120,6 +120,11 @@ impl Calibration {
         }
     }
 
+    /// Indices of the extension's own parameters: those after the baseline's.
+    pub fn own_parameters(&self) -> Vec<usize> {
+        (Cause::None.priors().len()..self.priors.len()).collect()
+    }
+
     /// Its variant judged on `runs` of `bundle`.
     pub fn evaluation<'a>(&'a self, bundle: &'a Bundle, runs: &'a [usize]) -> Evaluation<'a> {
         Evaluation {

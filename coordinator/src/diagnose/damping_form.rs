@@ -56,7 +56,7 @@ pub fn calibrate_committed_twin(
     }
     let Some(best) = ext.best(n_eff) else { return Ok(None) };
     let all: Vec<usize> = (0..ext.priors.len()).collect();
-    let own: Vec<usize> = (Cause::None.priors().len()..ext.priors.len()).collect();
+    let own = ext.own_parameters();
     let mut twin = Calibration { committed_share: 1.0, ..ext.restarted(all.clone()) };
     let ev = Evaluation { committed_share: twin.committed_share, ..ext.evaluation(bundle, runs) };
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };

@@ -33,7 +33,7 @@ pub fn calibrate_linear_part(
     let n_base = Cause::None.priors().len();
     let linear: Vec<usize> =
         (0..n_base).chain(part.linear.iter().filter_map(|n| index(n))).collect();
-    let own: Vec<usize> = (n_base..ext.priors.len()).collect();
+    let own = ext.own_parameters();
     let mut start = ext.points[best].u.clone();
     start[onset] = 1.0;
     let mut twin = ext.restarted(linear.clone());

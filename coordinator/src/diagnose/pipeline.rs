@@ -417,7 +417,7 @@ impl After<'_> {
     /// The own parameters of `cal`'s extension and the valley walks it
     /// gets ([`refine_walks`]).
     fn walks(&self, cal: &Calibration) -> (usize, usize) {
-        let own = cal.priors.len() - Cause::None.priors().len();
+        let own = cal.own_parameters().len();
         (own, refine_walks(&self.opts.budget, own, campaign_work(self.b, self.runs.0)))
     }
 

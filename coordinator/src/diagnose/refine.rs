@@ -11,7 +11,6 @@
 
 use super::calibrate::{Budget, Calibration, Scale, Search, COARSE_MAX_DIMS, SLOPPY_STEPS};
 use super::campaign_size::is_large;
-use super::cause::Cause;
 use super::executor::{ExecutorError, FeExecutor};
 use super::fit::Evaluation;
 use crate::bundle::Bundle;
@@ -61,7 +60,7 @@ pub fn refine(
         return Ok(false);
     };
     let priors = cal.priors.clone();
-    let own: Vec<usize> = (Cause::None.priors().len()..priors.len()).collect();
+    let own = cal.own_parameters();
     let ev = Evaluation {
         bundle,
         cause: cal.cause,
