@@ -198,6 +198,14 @@ fn print_verdict(v: &VerdictJson, d: &Diagnosis) {
             v.cause
         );
     }
+    if coordinator::diagnose::report::unexercised_note(d).is_some() {
+        eprintln!(
+            "warning: {} fits the calibration runs far better, but it and the baseline predict \
+             the validation runs alike: they barely exercise it and the gain does not measure \
+             it (see the report's verdict)",
+            v.cause
+        );
+    }
     if coordinator::diagnose::report::unexplained_note(d).is_some() {
         eprintln!(
             "warning: no extension fits the calibration runs better, but the baseline misses \

@@ -82,6 +82,7 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
         )));
     }
     blocks.extend(unconfirmed_note(d));
+    blocks.extend(unexercised_note(d));
     blocks.extend(reach_note(b, d));
     blocks.extend(unexplained_note(d));
     if d.calibration_runs == d.validation_runs {
@@ -124,6 +125,46 @@ pub fn unconfirmed_note(d: &Diagnosis) -> Option<Block> {
         );
     }
     Some(Block::Note { kind: NoteKind::Warning, text })
+}
+
+/// Gain below which a named extension and the baseline are said to
+/// predict the validation runs alike.
+pub const ALIKE_GAIN: f64 = 0.1;
+/// The named extension's calibration error over the baseline's (both in
+/// excess of the noise) below which it is said to fit the calibration runs
+/// far better.
+pub const FAR_BETTER: f64 = 0.5;
+
+/// A warning when the named extension fits the calibration runs far better
+/// than the baseline but both predict the validation runs alike: the
+/// validation runs barely exercise the physics (a white-noise run in xy
+/// closed the gaps in y, the validation sweep in x barely reaches them),
+/// so the gain cannot measure the extension.
+pub fn unexercised_note(d: &Diagnosis) -> Option<Block> {
+    let base = d.candidates.iter().find(|c| c.cause == Cause::None)?;
+    let named = d.candidates.iter().find(|c| c.cause == d.cause && c.cause != Cause::None)?;
+    let (bc, nc) = (base.calibration_excess_error, named.calibration_excess_error);
+    let (bv, nv) = (d.baseline_validation_error, d.extended_validation_error);
+    let alike = nv <= bv && d.gain < ALIKE_GAIN;
+    let better = nc < FAR_BETTER * bc;
+    let finite = [bc, nc, bv, nv].iter().all(|v| v.is_finite());
+    (finite && alike && better).then(|| Block::Note {
+        kind: NoteKind::Warning,
+        text: format!(
+            "{} fits the calibration runs far better than the baseline (error {} against {}, \
+             in excess of the noise), but the two predict the validation runs alike (validation \
+             error {} against {}, gain {:.3}): the validation runs barely exercise what it adds, \
+             so the gain does not measure it. Validating on runs that drive the specimen as far \
+             as the calibration runs that show it (the same direction, at least the same \
+             amplitude) would.",
+            d.cause.as_str(),
+            num(nc),
+            num(bc),
+            num(nv),
+            num(bv),
+            d.gain
+        ),
+    })
 }
 
 /// With no extension chosen, the baseline's validation error over its
@@ -671,6 +712,34 @@ mod tests {
         assert_eq!(warning_text(unconfirmed_note(&d)), None);
         let (_, d) = pounding_diagnosis(true, true);
         assert_eq!(warning_text(unconfirmed_note(&d)), None, "NaN errors");
+    }
+
+    #[test]
+    fn an_extension_the_validation_runs_barely_exercise_is_flagged() {
+        let (_, mut d) = pounding_diagnosis(true, true);
+        let set = |d: &mut Diagnosis, cause: Cause, cal: f64| {
+            let c = d.candidates.iter_mut().find(|c| c.cause == cause).unwrap();
+            c.calibration_excess_error = cal;
+        };
+        set(&mut d, Cause::None, 0.246);
+        set(&mut d, Cause::PerimeterPounding, 0.043);
+        (d.baseline_validation_error, d.extended_validation_error) = (0.0293, 0.0291);
+        d.gain = 1.0 - 0.0291 / 0.0293;
+        let text = warning_text(unexercised_note(&d)).expect("an unexercised extension");
+        assert!(text.contains("0.0430") && text.contains("0.246") && text.contains("0.0291"));
+        // A real gain, a calibration fit not far better, a worse prediction
+        // (the unconfirmed warning's), or the baseline named: no note.
+        d.extended_validation_error = 0.01;
+        d.gain = 1.0 - 0.01 / 0.0293;
+        assert_eq!(warning_text(unexercised_note(&d)), None, "a gain of 0.66");
+        (d.extended_validation_error, d.gain) = (0.0291, 0.007);
+        set(&mut d, Cause::PerimeterPounding, 0.2);
+        assert_eq!(warning_text(unexercised_note(&d)), None, "0.2 against 0.246");
+        set(&mut d, Cause::PerimeterPounding, 0.043);
+        (d.extended_validation_error, d.gain) = (0.0300, -0.024);
+        assert_eq!(warning_text(unexercised_note(&d)), None, "a worse prediction");
+        d.cause = Cause::None;
+        assert_eq!(warning_text(unexercised_note(&d)), None, "the baseline named");
     }
 
     #[test]
