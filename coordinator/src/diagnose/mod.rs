@@ -24,6 +24,7 @@ pub mod mdl;
 pub mod noise_floor;
 pub mod pipeline;
 pub mod posterior;
+pub mod posterior_check;
 pub mod reach;
 pub mod refine;
 pub mod report;

@@ -16,7 +16,8 @@ use super::fit::{
 };
 use super::linear_part::calibrate_linear_part;
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
-use super::posterior::{variational_posterior, VariationalPosterior};
+use super::posterior::VariationalPosterior;
+use super::posterior_check::checked_posterior;
 use super::refine::{planned_runs, refine, refine_walks};
 use crate::bundle::{Bundle, Direction, RunRole};
 use stats::gp::Gp;
@@ -241,9 +242,12 @@ pub fn diagnose_with(
     }
     let pick = select(&results, MISFIT_NATS);
     results[pick].selected = true;
-    progress("posterior (BBVI)", 0, 1);
-    results[pick].posterior = Some(variational_posterior(&v.cals[pick], &n_eff, opts.budget.seed));
-    progress("posterior (BBVI)", 1, 1);
+    progress("posterior (BBVI, checked by FE runs)", 0, 1);
+    let seed = opts.budget.seed;
+    let post = checked_posterior(&mut v.cals[pick], b, &cal_runs, &n_eff, seed, exec)?;
+    results[pick].fe_points += post.as_ref().ok().and_then(|p| p.check).map_or(0, |c| c.fe_points);
+    results[pick].posterior = Some(post);
+    progress("posterior (BBVI, checked by FE runs)", 1, 1);
     Ok(conclude(b, results, pick, (cal_runs, val_runs)))
 }
 

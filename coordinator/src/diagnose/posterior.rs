@@ -12,7 +12,9 @@
 //! thousands of nats above the best. The prior is uniform on the prior
 //! box (unit cube); q lives on the logit of the unit cube, centred at the
 //! estimate and scaled by the Laplace spread, so that the box is respected
-//! and q starts near its answer. No FE run is made here.
+//! and q starts near its answer. No FE run is made here: the emulator's
+//! excess at q's mean and a few of its draws ([`VariationalPosterior::probes`])
+//! is what [`super::posterior_check`] compares with the FE model.
 
 use super::calibrate::{unit_cube_gp, Calibration};
 use super::mdl::gn_sd;
@@ -31,6 +33,9 @@ pub const CAP_NATS: f64 = 100.0;
 const DRAWS: usize = 2000;
 /// Smallest distance of the estimate from a bound of the unit cube (logit).
 const EDGE: f64 = 1e-4;
+/// Points where the emulator is to be checked: q's mean and this many
+/// draws less one.
+pub const PROBES: usize = 5;
 
 /// The variational posterior of one variant, in prior (physical) units.
 #[derive(Debug, Clone, PartialEq)]
@@ -60,20 +65,76 @@ pub struct VariationalPosterior {
     pub rel_change: f64,
     /// ELBO of the fit (nats, relative to the best evaluated −log L).
     pub elbo: f64,
+    /// Unit-cube points where the emulator can be checked against the FE
+    /// model: q's mean, then draws from q.
+    pub probes: Vec<Vec<f64>>,
+    /// The emulated excess −log L at each probe (nats above the best,
+    /// capped at [`CAP_NATS`]).
+    pub probe_excess: Vec<f64>,
+    /// How the emulator fared against the FE model at its probes (None:
+    /// not checked).
+    pub check: Option<EmulatorCheck>,
+}
+
+/// The emulator of a posterior against the FE model at its probes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EmulatorCheck {
+    /// FE parameter points the checks ran, every round's.
+    pub fe_points: usize,
+    /// Largest |FE − emulated| excess −log L at the reported posterior's
+    /// probes (nats, both capped at [`CAP_NATS`]).
+    pub gap_nats: f64,
+    /// Whether that gap is within the check's tolerance.
+    pub confirmed: bool,
 }
 
 /// Emulated −log L − f̂ over the unit cube.
 struct Emulated {
     u0: Vec<f64>,
     h: DMatrix<f64>,
-    correction: Option<Gp>,
+    correction: Option<Correction>,
+}
+
+/// The GP through what the capped quadratic misses, with the range of
+/// its training targets and its value at the estimate.
+struct Correction {
+    gp: Gp,
+    low: f64,
+    high: f64,
+    at_estimate: f64,
+}
+
+impl Correction {
+    /// The correction at `u`, relative to its value at the estimate (where
+    /// the FE excess is 0 by definition; a GP that smooths over a needle-
+    /// sharp optimum sits several nats above it there).
+    fn at(&self, u: &[f64]) -> f64 {
+        self.raw(u) - self.at_estimate
+    }
+
+    /// The GP's mean held to its targets' range (a GP far from its points
+    /// can swing thousands of nats beyond them), and a dip below the
+    /// quadratic counted only as far as the GP is sure of it (mean + 2 sd),
+    /// so that the posterior does not settle where no FE run found the fit
+    /// better.
+    fn raw(&self, u: &[f64]) -> f64 {
+        let Ok(p) = self.gp.predict(u, false) else { return 0.0 };
+        let mean = p.mean[0].clamp(self.low, self.high);
+        if mean < 0.0 {
+            (mean + 2.0 * p.sd[0]).min(0.0)
+        } else {
+            mean
+        }
+    }
 }
 
 impl Emulated {
-    /// min(½ dᵀHd, [`CAP_NATS`]) + GP correction at `u`.
+    /// min(½ dᵀHd, [`CAP_NATS`]) + GP correction at `u`, never below the
+    /// best FE point (0): a better fit than any FE run found is an
+    /// extrapolation, which the FE checks ([`super::posterior_check`]) test.
     fn excess(&self, u: &[f64]) -> f64 {
-        let g = self.correction.as_ref().and_then(|gp| gp.predict(u, false).ok());
-        self.quadratic(u).min(CAP_NATS) + g.map_or(0.0, |p| p.mean[0])
+        let c = self.correction.as_ref().map_or(0.0, |c| c.at(u));
+        (self.quadratic(u).min(CAP_NATS) + c).max(0.0)
     }
 
     /// ½ dᵀHd at `u`.
@@ -170,7 +231,13 @@ pub fn variational_posterior(
             draws[k].push(p.at(u[k]));
         }
     }
-    Ok(summarise(cal, draws, used, &fit))
+    let mut post = summarise(cal, draws, used, &fit);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x7f4a_7c15);
+    post.probes = std::iter::once(target.unit(fit.q.mean()))
+        .chain((1..PROBES).map(|_| target.unit(&fit.q.sample(&l, &mut rng).1)))
+        .collect();
+    post.probe_excess = post.probes.iter().map(|u| target.emu.excess(u).min(CAP_NATS)).collect();
+    Ok(post)
 }
 
 /// GP through what the capped quadratic misses of the capped misfit,
@@ -183,7 +250,7 @@ fn gp_correction(
     f0: f64,
     u0: &[f64],
     h: &DMatrix<f64>,
-) -> (Option<Gp>, usize) {
+) -> (Option<Correction>, usize) {
     let k = u0.len();
     let quad = Emulated { u0: u0.to_vec(), h: h.clone(), correction: None };
     let (mut x, mut y) = (Vec::new(), Vec::new());
@@ -198,8 +265,14 @@ fn gp_correction(
     if y.len() < k + 3 {
         return (None, 0);
     }
+    let low = y.iter().copied().fold(f64::INFINITY, f64::min);
+    let high = y.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     match unit_cube_gp(&x, k, &y) {
-        Some(gp) => (Some(gp), y.len()),
+        Some(gp) => {
+            let mut c = Correction { gp, low, high, at_estimate: 0.0 };
+            c.at_estimate = c.raw(u0);
+            (Some(c), y.len())
+        }
         None => (None, 0),
     }
 }
@@ -235,6 +308,9 @@ fn summarise(
         converged: fit.converged,
         rel_change: fit.rel_change,
         elbo: fit.elbo,
+        probes: Vec::new(),
+        probe_excess: Vec::new(),
+        check: None,
     }
 }
 
@@ -330,6 +406,52 @@ mod tests {
         assert!(post.q975[0] < 1.5 * 2.24 * 0.01, "97.5 %: {}", post.q975[0]);
         assert!((post.mean[1] - 0.5).abs() < 0.002, "free coordinate: {}", post.mean[1]);
     }
+    /// A likelihood that stops growing 40 nats above its optimum (a model
+    /// that no longer changes far from it), evaluated near the optimum and
+    /// on a ring far out: the GP through what the quadratic (capped at 100)
+    /// misses learns −60 on the ring and bends below the best between; the
+    /// posterior must stay the Gaussian at the optimum, and no probe may be
+    /// emulated below the best FE point.
+    #[test]
+    fn a_saturating_likelihood_gives_no_mode_between_its_points() {
+        let c = [0.5, 0.5];
+        let a = DMatrix::from_row_slice(2, 2, &[2e4, 0.0, 0.0, 2e4]);
+        let quad = |u: &[f64]| 0.5 * 2e4 * ((u[0] - c[0]).powi(2) + (u[1] - c[1]).powi(2));
+        let nll = |u: &[f64]| quad(u).min(40.0);
+        let mut us = around(&c, 0.02);
+        for k in 0..16 {
+            let t = k as f64 * std::f64::consts::PI / 8.0;
+            us.push(vec![c[0] + 0.35 * t.cos(), c[1] + 0.35 * t.sin()]);
+            us.push(vec![c[0] + 0.2 * t.cos(), c[1] + 0.2 * t.sin()]);
+        }
+        let cal = calibration(&nll, &us, a);
+        let post = variational_posterior(&cal, &[2.0], 7).unwrap();
+        let sd = (1.0 / 2e4_f64).sqrt();
+        for ((m, s), c) in post.mean.iter().zip(&post.sd).zip(c) {
+            assert!((m - c).abs() < 0.5 * sd, "mean {:?} (sd {sd})", post.mean);
+            assert!(*s < 2.0 * sd, "sd {:?} vs {sd}", post.sd);
+        }
+        assert_eq!(post.probes.len(), PROBES);
+        assert!(post.probe_excess.iter().all(|e| *e >= 0.0), "{:?}", post.probe_excess);
+        let f = cal.objective(&[2.0]);
+        let f0 = f.iter().copied().fold(f64::INFINITY, f64::min);
+        let h = cal.gauss_newton.clone().unwrap();
+        let (correction, _) = gp_correction(&cal, &f, f0, &c, &h);
+        let correction = correction.expect("enough points for a GP");
+        let (low, high) = (correction.low, correction.high);
+        let shift = correction.at_estimate;
+        assert!(low < -50.0 && high < 1.0, "targets {low} to {high}");
+        let emu = Emulated { u0: c.to_vec(), h, correction: Some(correction) };
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let u = [i as f64 / 40.0, j as f64 / 40.0];
+                let g = emu.correction.as_ref().unwrap().at(&u) + shift;
+                assert!((low..=high.max(0.0)).contains(&g), "correction {g} at {u:?}");
+                assert!(emu.excess(&u) >= 0.0, "excess {} at {u:?}", emu.excess(&u));
+            }
+        }
+    }
+
     /// A likelihood with a cliff 0.02 below the optimum in u₀ (a
     /// connection driven past its backbone's peak: 500 nats more) and flat
     /// on that side up to it, under a Gauss–Newton matrix ten times too weak

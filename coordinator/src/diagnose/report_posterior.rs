@@ -4,6 +4,7 @@
 //! per parameter.
 
 use super::pipeline::Diagnosis;
+use super::posterior::EmulatorCheck;
 use super::verdict::POSTERIOR_METHOD;
 use crate::report::{
     histogram, Block, Figure, Histogram, Marker, NoteKind, PlotSize, Section, Table,
@@ -34,11 +35,12 @@ pub fn posterior_section(d: &Diagnosis) -> Section {
             blocks.push(Block::Table(Table {
                 caption: format!(
                     "{} BBVI iterations ({}, last relative change of q {:.1e}); GP correction \
-                     trained on {} FE evaluations.",
+                     trained on {} FE evaluations.{}",
                     p.iterations,
                     if p.converged { "converged" } else { "iteration limit" },
                     p.rel_change,
-                    p.emulator_points
+                    p.emulator_points,
+                    check_sentence(p.check)
                 ),
                 header: [
                     "parameter",
@@ -88,4 +90,21 @@ fn marginals(
             Some(Figure { caption: format!("Posterior marginal of {}.", p.names[k]), svg })
         })
         .collect()
+}
+
+/// What the FE checks of the emulator found, as a sentence.
+fn check_sentence(check: Option<EmulatorCheck>) -> String {
+    match check {
+        None => String::new(),
+        Some(c) if c.confirmed => format!(
+            " The FE model at q's mean and draws ({} FE runs) agrees with the emulator within \
+             {:.1} nats.",
+            c.fe_points, c.gap_nats
+        ),
+        Some(c) => format!(
+            " Not confirmed: after {} FE runs at q's mean and draws, the FE model still differs \
+             from the emulator by {:.1} nats there; read these intervals as rough.",
+            c.fe_points, c.gap_nats
+        ),
+    }
 }

@@ -69,15 +69,30 @@ pub struct PosteriorJson {
     pub converged: bool,
     /// Relative change of q's last two window averages.
     pub rel_change: Option<f64>,
+    /// The emulator checked by FE runs at q's mean and draws.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub emulator_check: Option<EmulatorCheckJson>,
     /// Why there is no posterior.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_computable: Option<String>,
 }
 
+/// How the posterior's emulator fared against the FE model.
+#[derive(Debug, Clone, Serialize)]
+pub struct EmulatorCheckJson {
+    /// FE parameter points the checks ran.
+    pub fe_points: usize,
+    /// Largest |FE − emulated| excess −log L at the posterior's probes
+    /// (nats, capped at 100).
+    pub gap_nats: f64,
+    /// Whether the gap is within the check's tolerance (5 nats).
+    pub confirmed: bool,
+}
+
 /// The method line of a posterior.
 pub const POSTERIOR_METHOD: &str = "BBVI (full-rank Gaussian on the logit of the prior box) on \
     an emulator of -log L: Gauss-Newton quadratic at the estimate plus a GP through the \
-    FE-evaluated misfits near it";
+    FE-evaluated misfits near it, checked by FE runs at q's mean and draws";
 
 fn posterior_json(
     p: &Option<Result<super::posterior::VariationalPosterior, String>>,
@@ -92,6 +107,11 @@ fn posterior_json(
             iterations: p.iterations,
             converged: p.converged,
             rel_change: Some(p.rel_change),
+            emulator_check: p.check.map(|c| EmulatorCheckJson {
+                fe_points: c.fe_points,
+                gap_nats: c.gap_nats,
+                confirmed: c.confirmed,
+            }),
             not_computable: None,
         }),
         Err(why) => Some(PosteriorJson {
@@ -100,6 +120,7 @@ fn posterior_json(
             iterations: 0,
             converged: false,
             rel_change: None,
+            emulator_check: None,
             not_computable: Some(why.clone()),
         }),
     }
