@@ -65,6 +65,8 @@ pub struct VariationalPosterior {
     pub rel_change: f64,
     /// ELBO of the fit (nats, relative to the best evaluated −log L).
     pub elbo: f64,
+    /// The best evaluated −log L, which the excesses are relative to.
+    pub best_neg_log_lik: f64,
     /// Unit-cube points where the emulator can be checked against the FE
     /// model: q's mean, then draws from q.
     pub probes: Vec<Vec<f64>>,
@@ -231,7 +233,7 @@ pub fn variational_posterior(
             draws[k].push(p.at(u[k]));
         }
     }
-    let mut post = summarise(cal, draws, used, &fit);
+    let mut post = summarise(cal, draws, used, &fit, f0);
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x7f4a_7c15);
     post.probes = std::iter::once(target.unit(fit.q.mean()))
         .chain((1..PROBES).map(|_| target.unit(&fit.q.sample(&l, &mut rng).1)))
@@ -282,6 +284,7 @@ fn summarise(
     draws: Vec<Vec<f64>>,
     used: usize,
     fit: &stats::bbvi::BbviFit,
+    best_neg_log_lik: f64,
 ) -> VariationalPosterior {
     let n = DRAWS as f64;
     let mean: Vec<f64> = draws.iter().map(|d| d.iter().sum::<f64>() / n).collect();
@@ -308,6 +311,7 @@ fn summarise(
         converged: fit.converged,
         rel_change: fit.rel_change,
         elbo: fit.elbo,
+        best_neg_log_lik,
         probes: Vec::new(),
         probe_excess: Vec::new(),
         check: None,

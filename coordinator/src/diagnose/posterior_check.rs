@@ -36,11 +36,9 @@ pub fn checked_posterior(
             Ok(p) => p,
             Err(why) => return Ok(last.ok_or(why)),
         };
-        let Some(f0) = cal.best(n_eff).map(|k| cal.objective(n_eff)[k]) else {
-            return Ok(Ok(post));
-        };
         let points = evaluate_points(&cal.evaluation(bundle, runs), &post.probes, exec)?;
         spent += points.len();
+        let f0 = post.best_neg_log_lik;
         let fe: Vec<f64> = points.iter().map(|p| p.neg_log_lik(n_eff) - f0).collect();
         let gap = probe_gap(&fe, &post.probe_excess);
         cal.points.extend(points);

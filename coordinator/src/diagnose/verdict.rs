@@ -83,7 +83,7 @@ pub struct EmulatorCheckJson {
     /// FE parameter points the checks ran.
     pub fe_points: usize,
     /// Largest |FE − emulated| excess −log L at the posterior's probes
-    /// (nats, capped at 100).
+    /// (nats; each side capped at 100 above the best).
     pub gap_nats: f64,
     /// Whether the gap is within the check's tolerance (5 nats).
     pub confirmed: bool,
