@@ -53,6 +53,12 @@ Variants (units of the model file: N, mm, s, t):
   lumping of the members' mass): a linear misfit no extension models.
 * member-scatter: each beam's E times a factor uniform in [0.85, 1.15]
   (member-to-member scatter of section and stiffness): another one.
+* carrying-channels: on a double-layer model (meta layers = 2, which the
+  ceilfarm generator builds without them) the seed's carrying channels
+  U50x15x1 (2.24 kg/m, 70 mm2) along X through every row of rods: their
+  mass over the plan's length, shared among the row's rod nodes, and an
+  elastic beam between neighbouring rod nodes, rigidly joined (the clips'
+  give left out: the most a channel can tie the main tees).
 * fine-steps: the time step divided by 10 (output at the same instants):
   a simulator that resolves contact and slip in time, where ceilfarm
   integrates at the sampling step (a grid end on a 0.4 EA/L contact rings
@@ -92,6 +98,8 @@ SMOOTH_STEEL02 = (3.0, 0.925, 0.15)
 FLAG_BETA = 0.6
 MASS_SCATTER = (0.85, 1.15)
 MEMBER_SCATTER = (0.85, 1.15)
+CHANNEL_KG_PER_M = 2.24
+CHANNEL = {"A": 70.0, "Iy": 2.9e4, "Iz": 1.6e3, "J": 27.0}   # mm2, mm4: U50x15x1, web vertical
 FINE_STEPS = 10
 DAMPING_LOW_FACTOR = 1.5
 DAMPING_HIGH_FACTOR = 0.7
@@ -295,6 +303,40 @@ def mass_scatter(m, seed):
     return {"applied": True, "n_nodes": len(fs), "factor": summary(fs)}
 
 
+def carrying_channels(m, seed):
+    """Channels along X through each row of rod nodes: mass and beams."""
+    if m.get("meta", {}).get("layers") != 2:
+        return absent("double layer")
+    xyz = {n[0]: n[1:] for n in m["nodes"]}
+    rods = [b for b in m.get("beams", []) if b.get("group") == "rod"]
+    bottom = [min((b["i"], b["j"]), key=lambda n: xyz[n][2]) for b in rods]
+    rows = {}
+    for n in set(bottom):
+        rows.setdefault(round(xyz[n][1], 3), []).append(n)
+    ref = next(b for b in m["beams"] if b.get("group") == "main_tee")
+    next_id = max([s["id"] for s in m.get("springs", [])] + [b["id"] for b in m["beams"]]) + 1
+    masses = {e["node"]: e for e in m.setdefault("masses", [])}
+    length_mm = m["meta"]["Lx"]
+    added_t = 0.0
+    for y, row in sorted(rows.items()):
+        row.sort(key=lambda n: xyz[n][0])
+        share_t = CHANNEL_KG_PER_M * 1e-6 * length_mm / len(row)
+        for n in row:
+            entry = masses.setdefault(n, {"node": n, "m": [0.0] * 6})
+            if entry not in m["masses"]:
+                m["masses"].append(entry)
+            entry["m"] = [v + share_t if k < 3 else v for k, v in enumerate(entry["m"])]
+            added_t += share_t
+        for a, b in zip(row, row[1:]):
+            m["beams"].append(dict(CHANNEL, id=next_id, i=a, j=b, E=ref["E"], G=ref["G"],
+                                   vecxz=[0.0, 0.0, 1.0], group="carrying_channel"))
+            next_id += 1
+    before = m["meta"].get("mass_total_t")
+    return {"applied": True, "rows": len(rows), "rod_nodes": len(bottom),
+            "n_beams": sum(len(r) - 1 for r in rows.values()), "mass_added_t": added_t,
+            "mass_added_over_total": added_t / before if before else None}
+
+
 def member_scatter(m, seed):
     """Each beam's E times U[0.85, 1.15]."""
     beams = m.get("beams", [])
@@ -372,6 +414,7 @@ VARIANTS = {
     "pinching-shape": pinching_shape,
     "pinching-flag": pinching_flag,
     "mass-scatter": mass_scatter,
+    "carrying-channels": carrying_channels,
     "member-scatter": member_scatter,
     "fine-steps": fine_steps,
     "damping-shift": damping_shift,
@@ -381,7 +424,7 @@ VARIANTS = {
 ORDER = ["contact-impact", "contact-stiffening", "contact-softening", "gap-scatter",
          "gap-scatter-measured",
          "friction-scatter", "friction-smooth", "pinching-shape", "pinching-flag",
-         "mass-scatter", "member-scatter", "fine-steps", "damping-shift", "damping-tangent"]
+         "carrying-channels", "mass-scatter", "member-scatter", "fine-steps", "damping-shift", "damping-tangent"]
 
 
 def parse(text):
@@ -458,6 +501,18 @@ def self_check():
     assert (t["damping"]["alphaM"], t["damping"]["betaK"]) == (1.0, 1e-3)
     t2, rt2 = apply(t, ["damping-tangent"], seed=7)
     assert rt2["damping-tangent"]["applied"] is False   # already on the tangent
+    ch = {"nodes": [[1, 0.0, 0.0, 0.0], [2, 1200.0, 0.0, 0.0], [3, 0.0, 0.0, 900.0],
+                    [4, 1200.0, 0.0, 900.0]],
+          "beams": [{"id": 1, "i": 1, "j": 2, "E": 2e5, "G": 8e4, "group": "main_tee"},
+                    {"id": 2, "i": 3, "j": 1, "group": "rod"}, {"id": 3, "i": 2, "j": 4, "group": "rod"}],
+          "masses": [{"node": 1, "m": [1e-3] * 3 + [0.0] * 3}], "meta": {"layers": 2, "Lx": 2400.0}}
+    c2, rc = apply(ch, ["carrying-channels"], seed=7)
+    chan = [b for b in c2["beams"] if b["group"] == "carrying_channel"]
+    assert len(chan) == 1 and (chan[0]["i"], chan[0]["j"]) == (1, 2) and chan[0]["id"] == 4
+    added = {e["node"]: e["m"][0] for e in c2["masses"]}
+    assert abs(added[1] - 1e-3 - 2.688e-3) < 1e-12 and abs(added[2] - 2.688e-3) < 1e-12
+    _, r1 = apply(dict(ch, meta={"layers": 1, "Lx": 2400.0}), ["carrying-channels"], seed=7)
+    assert r1["carrying-channels"]["applied"] is False
     return True
 
 
