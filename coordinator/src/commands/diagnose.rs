@@ -191,14 +191,14 @@ fn print_verdict(v: &VerdictJson, d: &Diagnosis) {
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",
         v.cause, v.gain, v.baseline_validation_error, v.extended_validation_error, v.fe_points
     );
-    if coordinator::diagnose::report::unconfirmed_note(d).is_some() {
+    if coordinator::diagnose::verdict_notes::unconfirmed_note(d).is_some() {
         eprintln!(
             "warning: {} predicts the validation runs no better than the baseline: the cause \
              is not confirmed (see the report's verdict)",
             v.cause
         );
     }
-    if coordinator::diagnose::report::unexercised_note(d).is_some() {
+    if coordinator::diagnose::verdict_notes::unexercised_note(d).is_some() {
         eprintln!(
             "warning: {} fits the calibration runs far better, but it and the baseline predict \
              the validation runs alike: they barely exercise it and the gain does not measure \
@@ -206,7 +206,7 @@ fn print_verdict(v: &VerdictJson, d: &Diagnosis) {
             v.cause
         );
     }
-    if coordinator::diagnose::report::unexplained_note(d).is_some() {
+    if coordinator::diagnose::verdict_notes::unexplained_note(d).is_some() {
         eprintln!(
             "warning: no extension fits the calibration runs better, but the baseline misses \
              the validation runs by {:.3} in excess of the noise: they show something the \

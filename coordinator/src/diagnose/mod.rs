@@ -36,6 +36,7 @@ pub mod spectrogram;
 pub mod spectrum;
 pub mod symptoms;
 pub mod verdict;
+pub mod verdict_notes;
 
 #[cfg(test)]
 pub(crate) mod testkit;
