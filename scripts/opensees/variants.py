@@ -59,6 +59,8 @@ Variants (units of the model file: N, mm, s, t):
   mass over the plan's length, shared among the row's rod nodes, and an
   elastic beam between neighbouring rod nodes, rigidly joined (the clips'
   give left out: the most a channel can tie the main tees).
+* channel-mass: the channels' mass alone, as carrying-channels adds it,
+  without their beams (what of carrying-channels the mass explains).
 * fine-steps: the time step divided by 10 (output at the same instants):
   a simulator that resolves contact and slip in time, where ceilfarm
   integrates at the sampling step (a grid end on a 0.4 EA/L contact rings
@@ -303,7 +305,12 @@ def mass_scatter(m, seed):
     return {"applied": True, "n_nodes": len(fs), "factor": summary(fs)}
 
 
-def carrying_channels(m, seed):
+def channel_mass(m, seed):
+    """The carrying channels' mass alone (no beams)."""
+    return carrying_channels(m, seed, beams=False)
+
+
+def carrying_channels(m, seed, beams=True):
     """Channels along X through each row of rod nodes: mass and beams."""
     if m.get("meta", {}).get("layers") != 2:
         return absent("double layer")
@@ -327,13 +334,14 @@ def carrying_channels(m, seed):
                 m["masses"].append(entry)
             entry["m"] = [v + share_t if k < 3 else v for k, v in enumerate(entry["m"])]
             added_t += share_t
-        for a, b in zip(row, row[1:]):
+        for a, b in zip(row, row[1:]) if beams else []:
             m["beams"].append(dict(CHANNEL, id=next_id, i=a, j=b, E=ref["E"], G=ref["G"],
                                    vecxz=[0.0, 0.0, 1.0], group="carrying_channel"))
             next_id += 1
     before = m["meta"].get("mass_total_t")
     return {"applied": True, "rows": len(rows), "rod_nodes": len(bottom),
-            "n_beams": sum(len(r) - 1 for r in rows.values()), "mass_added_t": added_t,
+            "n_beams": sum(len(r) - 1 for r in rows.values()) if beams else 0,
+            "mass_added_t": added_t,
             "mass_added_over_total": added_t / before if before else None}
 
 
@@ -415,6 +423,7 @@ VARIANTS = {
     "pinching-flag": pinching_flag,
     "mass-scatter": mass_scatter,
     "carrying-channels": carrying_channels,
+    "channel-mass": channel_mass,
     "member-scatter": member_scatter,
     "fine-steps": fine_steps,
     "damping-shift": damping_shift,
@@ -424,7 +433,7 @@ VARIANTS = {
 ORDER = ["contact-impact", "contact-stiffening", "contact-softening", "gap-scatter",
          "gap-scatter-measured",
          "friction-scatter", "friction-smooth", "pinching-shape", "pinching-flag",
-         "carrying-channels", "mass-scatter", "member-scatter", "fine-steps", "damping-shift", "damping-tangent"]
+         "carrying-channels", "channel-mass", "mass-scatter", "member-scatter", "fine-steps", "damping-shift", "damping-tangent"]
 
 
 def parse(text):
@@ -513,6 +522,8 @@ def self_check():
     assert abs(added[1] - 1e-3 - 2.688e-3) < 1e-12 and abs(added[2] - 2.688e-3) < 1e-12
     _, r1 = apply(dict(ch, meta={"layers": 1, "Lx": 2400.0}), ["carrying-channels"], seed=7)
     assert r1["carrying-channels"]["applied"] is False
+    c3, _ = apply(ch, ["channel-mass"], seed=7)
+    assert len(c3["beams"]) == 3 and c3["masses"] == c2["masses"]
     return True
 
 
