@@ -132,6 +132,11 @@ def own_material(m, spring, new_mat):
     return new_mat
 
 
+def next_element_id(m):
+    """An id after every spring's and beam's (elements share one id space)."""
+    return max([s["id"] for s in m.get("springs", [])] + [b["id"] for b in m.get("beams", [])]) + 1
+
+
 def summary(values):
     if not values:
         return None
@@ -171,7 +176,7 @@ def contact_stiffening(m, seed):
     targets = springs_of(m, lambda s, mat: mat["type"] == "Gap")
     if not targets:
         return absent("Gap spring")
-    next_id = max([s["id"] for s in m["springs"]] + [b["id"] for b in m.get("beams", [])]) + 1
+    next_id = next_element_id(m)
     added = []
     for s in targets:
         old = materials(m)[s["mat"]]
@@ -321,27 +326,27 @@ def carrying_channels(m, seed, beams=True):
     for n in set(bottom):
         rows.setdefault(round(xyz[n][1], 3), []).append(n)
     ref = next(b for b in m["beams"] if b.get("group") == "main_tee")
-    next_id = max([s["id"] for s in m.get("springs", [])] + [b["id"] for b in m["beams"]]) + 1
+    first_id = next_id = next_element_id(m)
     masses = {e["node"]: e for e in m.setdefault("masses", [])}
     length_mm = m["meta"]["Lx"]
     added_t = 0.0
-    for y, row in sorted(rows.items()):
+    for _, row in sorted(rows.items()):
         row.sort(key=lambda n: xyz[n][0])
         share_t = CHANNEL_KG_PER_M * 1e-6 * length_mm / len(row)
         for n in row:
-            entry = masses.setdefault(n, {"node": n, "m": [0.0] * 6})
-            if entry not in m["masses"]:
-                m["masses"].append(entry)
-            entry["m"] = [v + share_t if k < 3 else v for k, v in enumerate(entry["m"])]
+            if n not in masses:
+                masses[n] = {"node": n, "m": [0.0] * 6}
+                m["masses"].append(masses[n])
+            masses[n]["m"] = [v + share_t if k < 3 else v for k, v in enumerate(masses[n]["m"])]
             added_t += share_t
-        for a, b in zip(row, row[1:]) if beams else []:
-            m["beams"].append(dict(CHANNEL, id=next_id, i=a, j=b, E=ref["E"], G=ref["G"],
-                                   vecxz=[0.0, 0.0, 1.0], group="carrying_channel"))
-            next_id += 1
+        if beams:
+            for a, b in zip(row, row[1:]):
+                m["beams"].append(dict(CHANNEL, id=next_id, i=a, j=b, E=ref["E"], G=ref["G"],
+                                       vecxz=[0.0, 0.0, 1.0], group="carrying_channel"))
+                next_id += 1
     before = m["meta"].get("mass_total_t")
     return {"applied": True, "rows": len(rows), "rod_nodes": len(bottom),
-            "n_beams": sum(len(r) - 1 for r in rows.values()) if beams else 0,
-            "mass_added_t": added_t,
+            "n_beams": next_id - first_id, "mass_added_t": added_t,
             "mass_added_over_total": added_t / before if before else None}
 
 

@@ -410,6 +410,7 @@ mod tests {
         assert!(post.q975[0] < 1.5 * 2.24 * 0.01, "97.5 %: {}", post.q975[0]);
         assert!((post.mean[1] - 0.5).abs() < 0.002, "free coordinate: {}", post.mean[1]);
     }
+
     /// A likelihood that stops growing 40 nats above its optimum (a model
     /// that no longer changes far from it), evaluated near the optimum and
     /// on a ring far out: the GP through what the quadratic (capped at 100)
