@@ -149,7 +149,11 @@ fn parameter_sets_follow_the_variant() {
         "J_main",
         "Iy_main",
     ];
-    assert_eq!(names(Perimeter::Linear, Connections::Rigid), base);
+    let with_channels = |mut v: Vec<&'static str>| {
+        v.push("channel_mass_kg_per_m");
+        v
+    };
+    assert_eq!(names(Perimeter::Linear, Connections::Rigid), with_channels(base.to_vec()));
     let all = names(Perimeter::FrictionPounding, Connections::Pinching4);
     let mut expected: Vec<&str> = base.to_vec();
     expected.splice(7..7, ["K_cc2", "K_cc3"]);
@@ -165,14 +169,51 @@ fn parameter_sets_follow_the_variant() {
         "conn_reload_force",
         "conn_unload_shift",
     ]);
-    assert_eq!(all, expected);
+    assert_eq!(all, with_channels(expected));
     let elastic = names(Perimeter::Friction, Connections::Elastic);
     assert!(elastic.contains(&"K_cc1") && !elastic.contains(&"gap_ratio"), "{elastic:?}");
-    // The default set is the one of the default model.
+    // The default set is the one of the default model on one layer.
     let default = Parameters::prior_midpoints();
-    let linear =
-        Parameters::prior_midpoints_for(&specimen(2.4, 2.4, Perimeter::Linear, Connections::Rigid));
-    assert_eq!(default, linear);
+    let mut one_layer = specimen(2.4, 2.4, Perimeter::Linear, Connections::Rigid);
+    one_layer.structure.layers = 1;
+    assert_eq!(default, Parameters::prior_midpoints_for(&one_layer));
+    assert_eq!(parameters_for(&one_layer).iter().map(|i| i.name).collect::<Vec<_>>(), base);
+}
+
+/// Total translational mass along x of a model (t).
+fn mass_x_t(m: &Model) -> f64 {
+    m.masses.iter().map(|x| x.m_t[0]).sum()
+}
+
+#[test]
+fn carrying_channels_add_their_mass_at_the_rod_nodes_of_a_double_layer() {
+    let spec = specimen(3.6, 2.4, Perimeter::Linear, Connections::Rigid);
+    let bare = generate(&spec, &Parameters::prior_midpoints_for(&spec)).unwrap();
+    let mut p = Parameters::prior_midpoints_for(&spec);
+    assert_eq!(p.get("channel_mass_kg_per_m"), 0.0, "no channels unless given");
+    p.set("channel_mass_kg_per_m", 2.24).unwrap();
+    let heavy = generate(&spec, &p).unwrap();
+    // Rows of rods at y = 0.6 and 1.8 m: two channels of 3.6 m.
+    let added_kg = (mass_x_t(&heavy) - mass_x_t(&bare)) * 1e3;
+    assert!((added_kg - 2.0 * 2.24 * 3.6).abs() < 1e-9, "{added_kg}");
+    let rod_nodes: Vec<u64> =
+        heavy.nodes.iter().filter(|n| n.id > 200000).map(|n| n.id - 200000).collect();
+    for x in &heavy.masses {
+        let before = bare.masses.iter().find(|b| b.node == x.node).map_or(0.0, |b| b.m_t[0]);
+        let on_rod = rod_nodes.contains(&x.node);
+        assert_eq!(on_rod, x.m_t[0] > before, "node {}", x.node);
+    }
+    assert!(frequencies(&heavy, 1)[0] < frequencies(&bare, 1)[0]);
+    // One layer has no channels: the value is refused with what it needs.
+    let mut one_layer = spec.clone();
+    one_layer.structure.layers = 1;
+    let e = Parameters::prior_midpoints_for(&one_layer).set("channel_mass_kg_per_m", 1.0);
+    assert!(e.unwrap_err().to_string().contains("layers = 2"));
+    let e = p.set("channel_mass_kg_per_m", -0.1).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "parameter `channel_mass_kg_per_m` = -0.1: expected a finite number >= 0"
+    );
 }
 
 #[test]

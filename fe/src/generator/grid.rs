@@ -119,6 +119,10 @@ pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, Genera
     let walls = perimeter(&g, spec, params, &mut m);
     let pieces = connections(&g, spec, params, &mut m);
     masses(&g, s.panel_mass_kg * 1e-3, &mut m);
+    if s.layers == 2 {
+        let kg_per_m = params.value_or_midpoint("channel_mass_kg_per_m");
+        channel_masses(&rod_tops, s.length_x_m, kg_per_m, &mut m);
+    }
     m.nodes.extend(walls.iter().chain(&rod_tops).chain(&pieces).copied());
     m.fixities =
         walls.iter().chain(&rod_tops).map(|n| Fixity { node: n.id, fixed: [true; 6] }).collect();
@@ -255,6 +259,25 @@ fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> Vec<Node> {
     tops
 }
 
+/// The carrying channels' mass, `kg_per_m` along x over the plan's length
+/// `length_x_m` through every row of rods, shared evenly among the row's
+/// rod nodes (the bottom nodes of `rod_tops`), added to their mass (t).
+fn channel_masses(rod_tops: &[Node], length_x_m: f64, kg_per_m: f64, m: &mut Model) {
+    if kg_per_m <= 0.0 {
+        return;
+    }
+    let row_of = |n: &Node| n.xyz_mm[1].to_bits();
+    for top in rod_tops {
+        let in_row = rod_tops.iter().filter(|n| row_of(n) == row_of(top)).count();
+        let t = kg_per_m * length_x_m * 1e-3 / in_row as f64;
+        let node = top.id - 200000;
+        match m.masses.iter_mut().find(|x| x.node == node) {
+            Some(x) => x.m_t.iter_mut().take(3).for_each(|v| *v += t),
+            None => m.masses.push(Mass { node, m_t: [t, t, t, 0.0, 0.0, 0.0] }),
+        }
+    }
+}
+
 /// A quarter of each panel's mass on each existing corner node (t).
 fn masses(g: &Grid, panel_t: f64, m: &mut Model) {
     let mut node_t = vec![0.0; (g.nx + 1) * (g.ny + 1)];
@@ -283,7 +306,7 @@ fn meta(spec: &CeilingSpec, p: &Parameters, g: &Grid, m: &Model) -> serde_json::
     let defaulted: serde_json::Map<String, serde_json::Value> = parameters_for(spec)
         .iter()
         .filter(|i| p.get(i.name).is_nan())
-        .map(|i| (i.name.to_string(), json!(i.midpoint())))
+        .map(|i| (i.name.to_string(), json!(i.default_value())))
         .collect();
     let model = spec.model;
     let mut notes = vec![if model.connections == super::spec::Connections::Rigid {
@@ -292,7 +315,11 @@ fn meta(spec: &CeilingSpec, p: &Parameters, g: &Grid, m: &Model) -> serde_json::
         "grid connections as zero-length springs (K_cc1-3 tee joints, K_mc splices); K_rod not modelled"
     }];
     if spec.structure.layers == 2 {
-        notes.push("layers = 2: carrying channels not modelled; rods end at the main tees");
+        notes.push(if p.value_or_midpoint("channel_mass_kg_per_m") > 0.0 {
+            "layers = 2: carrying channels as mass at the rod nodes (channel_mass_kg_per_m), their stiffness not modelled; rods end at the main tees"
+        } else {
+            "layers = 2: carrying channels not modelled; rods end at the main tees"
+        });
     }
     let variant = match (model.perimeter, model.connections) {
         (super::spec::Perimeter::Linear, super::spec::Connections::Rigid) => "linear",

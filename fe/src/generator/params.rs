@@ -23,6 +23,8 @@ pub enum Domain {
     Fraction,
     /// A signed ratio in (−1, 1) (a shift of Pinching4's uForce, a spread of gaps).
     SignedRatio,
+    /// A finite number ≥ 0 (a mass that may be absent).
+    NonNegative,
 }
 
 /// One named parameter: unit and prior bounds (seed Table 6.1, or the
@@ -42,6 +44,8 @@ pub struct ParamInfo {
     pub modelled: bool,
     /// The values it may take.
     pub domain: Domain,
+    /// The value a model uses when none is given (None: the prior mid-point).
+    pub default: Option<f64>,
 }
 
 impl ParamInfo {
@@ -49,12 +53,18 @@ impl ParamInfo {
     pub fn midpoint(&self) -> f64 {
         0.5 * (self.low + self.high)
     }
+    /// The value a model uses when none is given: [`ParamInfo::default`],
+    /// else the prior mid-point.
+    pub fn default_value(&self) -> f64 {
+        self.default.unwrap_or_else(|| self.midpoint())
+    }
     /// Whether `value` is in the parameter's domain.
     pub fn accepts(&self, value: f64) -> bool {
         match self.domain {
             Domain::Positive => value > 0.0 && value.is_finite(),
             Domain::Fraction => (0.0..1.0).contains(&value),
             Domain::SignedRatio => value > -1.0 && value < 1.0,
+            Domain::NonNegative => value >= 0.0 && value.is_finite(),
         }
     }
 }
@@ -66,7 +76,7 @@ const fn p(
     high: f64,
     modelled: bool,
 ) -> ParamInfo {
-    ParamInfo { name, unit, low, high, modelled, domain: Domain::Positive }
+    ParamInfo { name, unit, low, high, modelled, domain: Domain::Positive, default: None }
 }
 
 /// The 15 parameters of seed Table 6.1. K_cc1-3 act on the tee joints in
@@ -113,8 +123,12 @@ pub const PARAMETERS: [ParamInfo; 15] = [
 /// - `conn_unload_shift` U(−0.3, 0.3): added to Table 5.4's Pinching4
 ///   uForce (−0.01) on both sides (the force left on unloading over the
 ///   monotonic strength; larger: fuller loops); Table 5.5's connection
-///   kinds range from −0.3 (JAC) to −0.01.
-pub const EXTENSIONS: [ParamInfo; 9] = [
+///   kinds range from −0.3 (JAC) to −0.01;
+/// - `channel_mass_kg_per_m` U(0, 4.5) kg/m, 0 unless given: the carrying
+///   channels of a double-layer ceiling, which run along x through every
+///   row of rods above the grid, as mass shared among the row's rod nodes
+///   (their stiffness is not modelled); the seed's U50x15x1 weighs 2.24 kg/m.
+pub const EXTENSIONS: [ParamInfo; 10] = [
     p("friction_fy_N", "N", 0.5, 3.5, true),
     ParamInfo { domain: Domain::Fraction, ..p("friction_b", "-", 0.0, 0.1, true) },
     p("gap_ratio", "-", 0.5, 1.5, true),
@@ -124,6 +138,11 @@ pub const EXTENSIONS: [ParamInfo; 9] = [
     p("conn_disp_scale", "-", 0.5, 1.5, true),
     ParamInfo { domain: Domain::Fraction, ..p("conn_reload_force", "-", 0.1, 0.3, true) },
     ParamInfo { domain: Domain::SignedRatio, ..p("conn_unload_shift", "-", -0.3, 0.3, true) },
+    ParamInfo {
+        domain: Domain::NonNegative,
+        default: Some(0.0),
+        ..p("channel_mass_kg_per_m", "kg/m", 0.0, 4.5, true)
+    },
 ];
 
 /// Which model choice a parameter needs (for the refusal message).
@@ -141,6 +160,7 @@ fn needs(name: &str) -> &'static str {
         "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" | "conn_unload_shift" => {
             "it needs connections = \"pinching4\""
         }
+        "channel_mass_kg_per_m" => "it needs layers = 2 (carrying channels above the grid)",
         _ => "it is a parameter of the default model",
     }
 }
@@ -159,6 +179,7 @@ pub fn parameters_for(spec: &CeilingSpec) -> Vec<ParamInfo> {
         "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" | "conn_unload_shift" => {
             conn == Connections::Pinching4
         }
+        "channel_mass_kg_per_m" => spec.structure.layers == 2,
         _ => true,
     };
     PARAMETERS
@@ -226,13 +247,14 @@ impl Parameters {
         Self::at_midpoints(PARAMETERS.iter().filter(|p| p.modelled).copied().collect())
     }
 
-    /// Every parameter the specimen's model variant uses at its prior mid-point.
+    /// Every parameter the specimen's model variant uses at its prior
+    /// mid-point (at its default where it has one: [`ParamInfo::default`]).
     pub fn prior_midpoints_for(spec: &CeilingSpec) -> Self {
         Self::at_midpoints(parameters_for(spec))
     }
 
     fn at_midpoints(accepted: Vec<ParamInfo>) -> Self {
-        let values = accepted.iter().map(|p| (p.name, p.midpoint())).collect();
+        let values = accepted.iter().map(|p| (p.name, p.default_value())).collect();
         Parameters { values, accepted }
     }
 
@@ -260,6 +282,7 @@ impl Parameters {
                 Domain::Positive => "a finite number > 0",
                 Domain::Fraction => "a ratio in [0, 1)",
                 Domain::SignedRatio => "a ratio in (-1, 1)",
+                Domain::NonNegative => "a finite number >= 0",
             };
             return Err(ParamError::Value { name: name.into(), value, expected });
         }
@@ -280,12 +303,13 @@ impl Parameters {
         self.values.get(name).copied().unwrap_or(f64::NAN)
     }
 
-    /// The value of a parameter, or its prior mid-point when this set has
-    /// none (NaN for an unknown name).
+    /// The value of a parameter, or when this set has none its prior
+    /// mid-point or default ([`ParamInfo::default_value`]; NaN for an
+    /// unknown name).
     pub fn value_or_midpoint(&self, name: &str) -> f64 {
         match self.values.get(name) {
             Some(v) => *v,
-            None => param_info(name).map_or(f64::NAN, |p| p.midpoint()),
+            None => param_info(name).map_or(f64::NAN, |p| p.default_value()),
         }
     }
 
