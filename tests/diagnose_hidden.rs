@@ -5,11 +5,12 @@
 
 use coordinator::bundle::read_bundle;
 use coordinator::diagnose::calibrate::Budget;
-use coordinator::diagnose::pipeline::{diagnose, DiagnoseOptions};
+use coordinator::diagnose::pipeline::{diagnose, DiagnoseOptions, Diagnosis};
 use coordinator::synth::synth_to_dir;
 
-/// The demo campaign with another seed, effect and sensor units.
-fn campaign(effect: &str, seed: u64) -> String {
+/// The demo campaign with another seed and effect; with `channels_kg_per_m`
+/// a double-layer ceiling whose carrying channels weigh that.
+fn campaign(effect: &str, seed: u64, channels_kg_per_m: Option<f64>) -> String {
     let text = include_str!("../configs/synth/demo.toml");
     let mut out = String::new();
     for line in text.lines() {
@@ -17,6 +18,10 @@ fn campaign(effect: &str, seed: u64) -> String {
             format!("seed = {seed}")
         } else if line.starts_with("effect =") {
             format!("effect = \"{effect}\"")
+        } else if let (Some(_), true) = (channels_kg_per_m, line.starts_with("layers =")) {
+            "layers = 2".to_string()
+        } else if let (Some(m), true) = (channels_kg_per_m, line.starts_with("parameters =")) {
+            format!("parameters = {{ K_friction = 18.0, channel_mass_kg_per_m = {m} }}")
         } else {
             line.to_string()
         };
@@ -27,9 +32,15 @@ fn campaign(effect: &str, seed: u64) -> String {
 }
 
 fn run(effect: &str, seed: u64) -> (String, f64) {
+    let d = diagnosis(&campaign(effect, seed, None), effect, seed);
+    (d.cause.as_str().to_string(), d.gain)
+}
+
+/// The diagnosis of a campaign synthesised from `text`.
+fn diagnosis(text: &str, label: &str, seed: u64) -> Diagnosis {
     let tmp = tempfile::tempdir().unwrap();
     let spec = tmp.path().join("campaign.toml");
-    std::fs::write(&spec, campaign(effect, seed)).unwrap();
+    std::fs::write(&spec, text).unwrap();
     let bundle_dir = tmp.path().join("bundle");
     let answer = tmp.path().join("answer.json");
     synth_to_dir(&spec, &bundle_dir, &answer, &mut |_| {}).unwrap();
@@ -40,14 +51,14 @@ fn run(effect: &str, seed: u64) -> (String, f64) {
     let d = diagnose(&b, &opts, &mut |_, _, _| {}).unwrap();
     for c in &d.candidates {
         eprintln!(
-            "{effect} seed {seed}: {} mdl {:?} val {:.4}{}",
+            "{label} seed {seed}: {} mdl {:?} val {:.4}{}",
             c.cause.as_str(),
             c.mdl.as_ref().map(|m| m.total),
             c.validation_error,
             if c.selected { " <- selected" } else { "" }
         );
     }
-    (d.cause.as_str().to_string(), d.gain)
+    d
 }
 
 #[test]
@@ -79,4 +90,21 @@ fn hidden_connection_hysteresis_is_found() {
     let (cause, gain) = run("connection-hysteresis", 104);
     assert_eq!(cause, "connection-hysteresis");
     assert!(gain > 0.5, "gain {gain}");
+}
+
+/// A double-layer ceiling whose carrying channels weigh the seed's 2.24
+/// kg/m (as much again as half its panels): without their mass the baseline
+/// is too light, and the hidden pounding must still be found with it.
+#[test]
+fn carrying_channels_are_weighed_and_hidden_pounding_found() {
+    let seed = 105;
+    let d = diagnosis(&campaign("perimeter-pounding", seed, Some(2.24)), "channels", seed);
+    let form = d.channels.expect("a double-layer ceiling weighs its channels");
+    eprintln!("channels: {form:?}");
+    assert!(form.calibrated, "{form:?}");
+    let base = &d.candidates[0].estimates;
+    let mass = base.iter().find(|e| e.name == "channel_mass_kg_per_m").unwrap();
+    assert!((mass.value - 2.24).abs() < 0.25, "{mass:?}");
+    assert_eq!(d.cause.as_str(), "perimeter-pounding");
+    assert!(d.gain > 0.5, "gain {}", d.gain);
 }

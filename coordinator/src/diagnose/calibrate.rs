@@ -120,9 +120,14 @@ impl Calibration {
         }
     }
 
+    /// How many of its parameters are the baseline's (they come first).
+    pub fn n_base(&self) -> usize {
+        self.priors.len() - self.cause.extra_priors().len()
+    }
+
     /// Indices of the extension's own parameters: those after the baseline's.
     pub fn own_parameters(&self) -> Vec<usize> {
-        (Cause::None.priors().len()..self.priors.len()).collect()
+        (self.n_base()..self.priors.len()).collect()
     }
 
     /// Its variant judged on `runs` of `bundle`.
@@ -276,7 +281,7 @@ pub struct Around<'a> {
 #[allow(clippy::too_many_arguments)] // each a different input of one calibration
 pub fn calibrate(
     bundle: &Bundle,
-    cause: Cause,
+    (cause, base): (Cause, &[Prior]),
     runs: &[usize],
     n_eff: &[f64],
     budget: &Budget,
@@ -285,7 +290,7 @@ pub fn calibrate(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Calibration, ExecutorError> {
     let demand = around.map(|a| a.demand);
-    let priors = cause.priors();
+    let priors = cause.priors_on(base);
     let ev = Evaluation { bundle, cause, priors: &priors, runs, demand, committed_share: 0.0 };
     let course = Course::of(&ev, budget, around);
     let mut report = |done| progress(done, course.planned.get());

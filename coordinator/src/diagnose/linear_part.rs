@@ -1,4 +1,4 @@
-//! The linear part of a calibrated extension ([`Cause::linear_part`]): the
+//! The linear part of a calibrated extension ([`super::cause::Cause::linear_part`]): the
 //! extension with its onset held beyond the calibration runs' reach,
 //! recalibrated over the baseline's parameters and the extension's own that
 //! act before the onset (the connections' initial stiffness). An extension
@@ -8,7 +8,6 @@
 //! nonlinearity.
 
 use super::calibrate::{Budget, Calibration, Scale, Search};
-use super::cause::Cause;
 use super::executor::{ExecutorError, FeExecutor};
 use crate::bundle::Bundle;
 
@@ -30,7 +29,7 @@ pub fn calibrate_linear_part(
     let Some(best) = ext.best(n_eff) else { return Ok(None) };
     let index = |name: &str| ext.priors.iter().position(|p| p.name == name);
     let Some(onset) = index(part.onset) else { return Ok(None) };
-    let n_base = Cause::None.priors().len();
+    let n_base = ext.n_base();
     let linear: Vec<usize> =
         (0..n_base).chain(part.linear.iter().filter_map(|n| index(n))).collect();
     let own = ext.own_parameters();

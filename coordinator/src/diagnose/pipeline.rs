@@ -6,7 +6,7 @@
 
 use super::calibrate::{calibrate, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
-use super::cause::{Cause, Demand, Prior};
+use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::damping_form::{calibrate_committed_twin, twin_wins};
 use super::ensemble;
 use super::evidence::pga_g;
@@ -62,6 +62,8 @@ pub struct CandidateResult {
     /// The MDL of its linear part ([`Cause::linear_part`]), which it must
     /// beat by [`LINEAR_PART_NATS`] to be chosen (None: it has none).
     pub linear_part_mdl: Option<f64>,
+    /// Parameters calibrated (the baseline's included).
+    pub k: usize,
     /// Calibrated parameters.
     pub estimates: Vec<Estimate>,
     /// FE parameter points spent (each running every calibration run).
@@ -104,6 +106,7 @@ impl CandidateResult {
             cause,
             mdl,
             linear_part_mdl: None,
+            k: cause.priors().len(),
             estimates: vec![],
             fe_points: 0,
             failed_points: 0,
@@ -152,6 +155,9 @@ pub struct Diagnosis {
     pub gain: f64,
     /// FE parameter points spent in all.
     pub fe_points: usize,
+    /// On a double-layer ceiling, whether the baseline (and with it every
+    /// extension) calibrates the carrying channels' mass, and why.
+    pub channels: Option<ChannelForm>,
 }
 
 /// Splits runs by role; without roles, the strongest run validates.
@@ -228,6 +234,7 @@ pub fn diagnose_with(
     let n_eff = v.baseline_weights()?;
     let runs = (&cal_runs[..], &val_runs[..]);
     let (mut results, held) = assess_variants(b, &v, &n_eff, runs, exec, progress)?;
+    results[0].fe_points += v.channels.map_or(0, |f| f.fe_points_other);
     excess_validation_errors(b, &val_runs, &mut results);
     let pick = select(&results, 0.0);
     if pick != 0 {
@@ -248,7 +255,9 @@ pub fn diagnose_with(
     results[pick].fe_points += post.as_ref().ok().and_then(|p| p.check).map_or(0, |c| c.fe_points);
     results[pick].posterior = Some(post);
     progress("posterior (BBVI, checked by FE runs)", 1, 1);
-    Ok(conclude(b, results, pick, (cal_runs, val_runs)))
+    let mut d = conclude(b, results, pick, (cal_runs, val_runs));
+    d.channels = v.channels;
+    Ok(d)
 }
 
 /// Every calibrated variant, the baseline first.
@@ -260,6 +269,9 @@ struct Variants {
     linear_parts: Vec<Option<Calibration>>,
     /// The baseline's best design point (under the mid-point weights).
     base_best: usize,
+    /// On a double-layer ceiling, whether the baseline calibrates the
+    /// carrying channels' mass.
+    channels: Option<ChannelForm>,
 }
 
 impl Variants {
@@ -283,20 +295,29 @@ fn calibrate_variants(
     exec: &mut dyn FeExecutor,
     progress: &mut dyn FnMut(&str, usize, usize),
 ) -> Result<Variants, DiagnoseError> {
-    let (base, base_best) = calibrate_baseline(b, cal_runs, n_eff0, opts, exec, progress)?;
+    let form = calibrate_baseline(b, cal_runs, n_eff0, opts, exec, progress)?;
+    let (base, base_best) = (form.chosen, form.best);
     let base_u = base.points[base_best].u.clone();
+    let base_priors = base.priors.clone();
     let demand = baseline_demand(b, &base, base_best, cal_runs, exec)?;
-    let mut v = Variants { cals: vec![base], linear_parts: vec![None], base_best };
+    let mut v =
+        Variants { cals: vec![base], linear_parts: vec![None], base_best, channels: form.channels };
     let boundary = b.manifest.structure.boundary;
     let in_place = |c: &Cause| *c != Cause::None && c.has_place(boundary);
     for c in opts.candidates.iter().copied().filter(in_place) {
         let stage = format!("calibrating {}", c.as_str());
         let rival = v.cals.iter().flat_map(|k| k.objective(n_eff0)).fold(f64::INFINITY, f64::min);
         let around = Around { base: &base_u, demand, rival };
-        let cal =
-            calibrate(b, c, cal_runs, n_eff0, &opts.budget, Some(around), exec, &mut |d, n| {
-                progress(&stage, d, n)
-            })?;
+        let cal = calibrate(
+            b,
+            (c, &base_priors),
+            cal_runs,
+            n_eff0,
+            &opts.budget,
+            Some(around),
+            exec,
+            &mut |d, n| progress(&stage, d, n),
+        )?;
         let stage = format!("linear part of {}", c.as_str());
         let planned = opts.budget.local / 2;
         let part =
@@ -309,8 +330,34 @@ fn calibrate_variants(
     Ok(v)
 }
 
+/// The baseline's form on a double-layer ceiling: whether it calibrates the
+/// carrying channels' mass ([`super::cause::CHANNELS`]), and the MDL of
+/// each form that decided it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChannelForm {
+    /// Whether the channels' mass is calibrated.
+    pub calibrated: bool,
+    /// MDL (nats, under the mid-point weights) without the channels.
+    pub mdl_without: f64,
+    /// MDL with the channels' mass calibrated.
+    pub mdl_with: f64,
+    /// FE points the form not chosen spent.
+    pub fe_points_other: usize,
+}
+
+/// The calibrated baseline and its best design point, with the form chosen.
+struct BaselineForm {
+    chosen: Calibration,
+    best: usize,
+    /// On a double-layer ceiling, the choice of the channels.
+    channels: Option<ChannelForm>,
+}
+
 /// The baseline calibrated on `cal_runs` under weights `n_eff0`, and its
-/// best design point; an error when it failed at every point.
+/// best design point; an error when it failed at every point. On a
+/// double-layer ceiling (carrying channels above the grid) it is calibrated
+/// with and without the channels' mass, and the form of lower MDL is kept
+/// (the one without on a tie within [`TIE_NATS`]).
 fn calibrate_baseline(
     b: &Bundle,
     cal_runs: &[usize],
@@ -318,16 +365,42 @@ fn calibrate_baseline(
     opts: &DiagnoseOptions,
     exec: &mut dyn FeExecutor,
     progress: &mut dyn FnMut(&str, usize, usize),
-) -> Result<(Calibration, usize), DiagnoseError> {
-    let stage = "calibrating none (baseline)";
-    let base =
-        calibrate(b, Cause::None, cal_runs, n_eff0, &opts.budget, None, exec, &mut |d, n| {
-            progress(stage, d, n)
-        })?;
-    let base_best = base
+) -> Result<BaselineForm, DiagnoseError> {
+    let mut one_form = |channels: bool| -> Result<(Calibration, f64), DiagnoseError> {
+        let stage = if channels {
+            "calibrating none (baseline, carrying channels' mass)"
+        } else {
+            "calibrating none (baseline)"
+        };
+        let priors = baseline_priors(channels);
+        let cal = calibrate(
+            b,
+            (Cause::None, &priors),
+            cal_runs,
+            n_eff0,
+            &opts.budget,
+            None,
+            exec,
+            &mut |d, n| progress(stage, d, n),
+        )?;
+        let gp = cal.emulator(n_eff0);
+        let total = mdl(&cal, gp.as_ref(), n_eff0, (0.0, 0.0)).map_or(f64::INFINITY, |m| m.total);
+        Ok((cal, total))
+    };
+    let (plain, mdl_without) = one_form(false)?;
+    let (chosen, channels) = if b.manifest.structure.layers == 2 {
+        let (heavy, mdl_with) = one_form(true)?;
+        let calibrated = mdl_with < mdl_without - TIE_NATS;
+        let (chosen, other) = if calibrated { (heavy, plain) } else { (plain, heavy) };
+        let fe_points_other = other.fe_points();
+        (chosen, Some(ChannelForm { calibrated, mdl_without, mdl_with, fe_points_other }))
+    } else {
+        (plain, None)
+    };
+    let best = chosen
         .best(n_eff0)
         .ok_or_else(|| DiagnoseError::Model("the baseline failed at every design point".into()))?;
-    Ok((base, base_best))
+    Ok(BaselineForm { chosen, best, channels })
 }
 
 /// The demand of the calibration runs on the baseline at its design point
@@ -339,8 +412,7 @@ fn baseline_demand(
     cal_runs: &[usize],
     exec: &mut dyn FeExecutor,
 ) -> Result<Demand, DiagnoseError> {
-    let priors = Cause::None.priors();
-    let ev = Evaluation::baseline(b, &priors, cal_runs);
+    let ev = Evaluation::baseline(b, &base.priors, cal_runs);
     exec.demand(&ev, &base.theta(best))?.map_err(DiagnoseError::Model)
 }
 
@@ -397,6 +469,7 @@ fn conclude(
         baseline_validation_error: base,
         extended_validation_error: ext,
         gain: if pick == 0 { 0.0 } else { 1.0 - ext / base },
+        channels: None,
     }
 }
 
@@ -582,7 +655,8 @@ fn select(results: &[CandidateResult], allowance: f64) -> usize {
         .unwrap_or(0)
 }
 
-/// Channel weights from the baseline at its prior mid-point.
+/// Channel weights from the baseline at its prior mid-point (without the
+/// carrying channels' mass).
 fn midpoint_weights(
     b: &Bundle,
     runs: &[usize],
@@ -633,6 +707,7 @@ fn assess(
         fe_points: cal.fe_points(),
         failed_points: failed,
         committed_share: cal.committed_share,
+        k: cal.priors.len(),
         ..CandidateResult::unassessed(cal.cause, m)
     };
     let Some(best) = cal.best(n_eff) else { return Ok(out) };
@@ -720,7 +795,7 @@ fn predict(
     u: &[f64],
     exec: &mut dyn FeExecutor,
 ) -> Result<(Option<Vec<Simulated>>, usize), ExecutorError> {
-    let n_base = Cause::None.priors().len();
+    let n_base = cal.n_base();
     let extension = cal.cause != Cause::None;
     let own = |i: usize| extension && i >= n_base;
     let steps: Vec<f64> =

@@ -230,5 +230,6 @@ fn sdof_diagnosis(
         extended_validation_error: f64::NAN,
         gain: 0.0,
         fe_points: 0,
+        channels: None,
     }
 }

@@ -149,9 +149,24 @@ pub struct VerdictJson {
     pub validation_runs: Vec<String>,
     /// FE parameter points spent in all.
     pub fe_points: usize,
+    /// On a double-layer ceiling, whether every model calibrates the
+    /// carrying channels' mass (an extra field, which the format allows).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baseline_channels: Option<ChannelsJson>,
     /// The symptoms, when given ([`VerdictJson::with_symptoms`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub symptoms: Vec<SymptomJson>,
+}
+
+/// The choice of the carrying channels' mass as written.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChannelsJson {
+    /// Whether the channels' mass (`channel_mass_kg_per_m`) is calibrated.
+    pub calibrated: bool,
+    /// The baseline's MDL without it (nats, under the mid-point weights).
+    pub mdl_without: f64,
+    /// The baseline's MDL with it.
+    pub mdl_with: f64,
 }
 
 /// One symptom as written: its numbers on the focus run (null when not
@@ -224,7 +239,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 linear_part_mdl: c.linear_part_mdl,
                 mdl_terms: c.mdl.as_ref().map(|m| [m.fit, m.parametric, m.geometric]),
                 damping_stiffness: (c.committed_share > 0.0).then(|| "committed".into()),
-                k: c.cause.priors().len(),
+                k: c.k,
                 fe_points: c.fe_points,
                 parameters: c.estimates.iter().map(|e| (e.name.clone(), e.value)).collect(),
                 posterior: posterior_json(&c.posterior),
@@ -236,6 +251,11 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
         calibration_runs: ids(&d.calibration_runs),
         validation_runs: ids(&d.validation_runs),
         fe_points: d.fe_points,
+        baseline_channels: d.channels.map(|f| ChannelsJson {
+            calibrated: f.calibrated,
+            mdl_without: f.mdl_without,
+            mdl_with: f.mdl_with,
+        }),
         symptoms: vec![],
     }
 }
