@@ -5,7 +5,7 @@
 
 use coordinator::bundle::read_bundle;
 use coordinator::diagnose::calibrate::Budget;
-use coordinator::diagnose::pipeline::{diagnose, DiagnoseOptions, Diagnosis};
+use coordinator::diagnose::pipeline::{diagnose, CandidateResult, DiagnoseOptions, Diagnosis};
 use coordinator::synth::synth_to_dir;
 
 /// The demo campaign with another seed and effect; with `channels_kg_per_m`
@@ -58,7 +58,29 @@ fn diagnosis(text: &str, label: &str, seed: u64) -> Diagnosis {
             if c.selected { " <- selected" } else { "" }
         );
     }
+    baseline_fits_where_no_extension_engages(&d);
     d
+}
+
+/// An extension whose onset lies beyond the calibration runs' demand (gap
+/// or slip force above 1.1 times it) is the baseline there, so it fits the
+/// calibration runs no better than the baseline does.
+fn baseline_fits_where_no_extension_engages(d: &Diagnosis) {
+    let fit = |c: &CandidateResult| c.mdl.as_ref().map(|m| m.fit);
+    let Some(base) = fit(&d.candidates[0]) else { return };
+    let onset = |c: &CandidateResult| {
+        let names = ["gap_over_demand", "slip_over_demand"];
+        c.estimates.iter().find(|e| names.contains(&e.name.as_str())).map(|e| e.value)
+    };
+    for c in &d.candidates[1..] {
+        if let (Some(f), Some(x)) = (fit(c), onset(c)) {
+            let what = c.cause.as_str();
+            assert!(
+                x < 1.1 || f > base - 1.0,
+                "{what} (onset {x:.2}) fits by {f:.1}, baseline {base:.1}"
+            );
+        }
+    }
 }
 
 #[test]
