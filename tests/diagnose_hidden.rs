@@ -21,7 +21,7 @@ fn campaign(effect: &str, seed: u64, channels_kg_per_m: Option<f64>) -> String {
         } else if let (Some(_), true) = (channels_kg_per_m, line.starts_with("layers =")) {
             "layers = 2".to_string()
         } else if let (Some(m), true) = (channels_kg_per_m, line.starts_with("parameters =")) {
-            format!("parameters = {{ K_friction = 18.0, channel_mass_kg_per_m = {m} }}")
+            line.replacen(" }", &format!(", channel_mass_kg_per_m = {m} }}"), 1)
         } else {
             line.to_string()
         };
