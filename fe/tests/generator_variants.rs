@@ -150,7 +150,7 @@ fn parameter_sets_follow_the_variant() {
         "Iy_main",
     ];
     let with_channels = |mut v: Vec<&'static str>| {
-        v.push("channel_mass_kg_per_m");
+        v.extend(["channel_mass_kg_per_m", "channel_beam_factor"]);
         v
     };
     assert_eq!(names(Perimeter::Linear, Connections::Rigid), with_channels(base.to_vec()));
@@ -214,6 +214,45 @@ fn carrying_channels_add_their_mass_at_the_rod_nodes_of_a_double_layer() {
         e.to_string(),
         "parameter `channel_mass_kg_per_m` = -0.1: expected a finite number >= 0"
     );
+}
+
+#[test]
+fn carrying_channels_add_their_beams_between_the_rod_nodes_of_each_row() {
+    let spec = specimen(3.6, 2.4, Perimeter::Linear, Connections::Rigid);
+    let bare = generate(&spec, &Parameters::prior_midpoints_for(&spec)).unwrap();
+    let mut p = Parameters::prior_midpoints_for(&spec);
+    assert_eq!(p.get("channel_beam_factor"), 0.0, "no beams unless given");
+    p.set("channel_beam_factor", 0.5).unwrap();
+    let tied = generate(&spec, &p).unwrap();
+    let xyz = |id: u64| tied.nodes.iter().find(|n| n.id == id).unwrap().xyz_mm;
+    let channels: Vec<_> =
+        tied.beams.iter().filter(|b| b.group.as_deref() == Some("carrying_channel")).collect();
+    // Rods on the main tees at x = 0.6, 1.8 and 3.0 m, rows at y = 0.6 and
+    // 1.8 m: two channel spans per row, from one rod node to the next.
+    assert_eq!(channels.len(), 4);
+    assert_eq!(tied.beams.len(), bare.beams.len() + 4);
+    for b in &channels {
+        let (a, c) = (xyz(b.i), xyz(b.j));
+        assert_eq!((a[1], a[2], c[1], c[2]), (c[1], 0.0, a[1], 0.0), "{b:?}");
+        assert!((c[0] - a[0] - 1200.0).abs() < 1e-9, "{b:?}");
+        for n in [b.i, b.j] {
+            assert!(tied.nodes.iter().any(|t| t.id == n + 200000), "node {n} holds no rod");
+        }
+        let sec = [b.area_mm2, b.j_mm4, b.iy_mm4, b.iz_mm4];
+        assert_eq!(sec, [35.0, 13.5, 1.45e4, 800.0], "half the seed's U50x15x1");
+        assert_eq!(b.vecxz, [0.0, 0.0, 1.0]);
+    }
+    // Tying the main tees together stiffens the ceiling, a little (the third
+    // mode by 0.56 %: the rods and the perimeter springs hold it more).
+    let (f_bare, f_tied) = (frequencies(&bare, 4), frequencies(&tied, 4));
+    assert!(f_tied.iter().zip(&f_bare).all(|(t, b)| t >= &(b - 1e-9)), "{f_tied:?} {f_bare:?}");
+    assert!(f_tied.iter().zip(&f_bare).any(|(t, b)| t > &(b * 1.004)), "{f_tied:?} {f_bare:?}");
+    let mut one_layer = spec.clone();
+    one_layer.structure.layers = 1;
+    let e = Parameters::prior_midpoints_for(&one_layer).set("channel_beam_factor", 1.0);
+    assert!(e.unwrap_err().to_string().contains("layers = 2"));
+    let e = p.set("channel_beam_factor", -0.5).unwrap_err();
+    assert!(e.to_string().contains("expected a finite number >= 0"), "{e}");
 }
 
 #[test]

@@ -15,7 +15,9 @@
 //! cross tee 28 mm², J 4200, Iy 3000, Iz 650; rod M8 40 mm², I = A²/4π,
 //! J = 2I. With `connections = "rigid"` the members are continuous through
 //! the joints and the model is numbered exactly as above; the double layer's
-//! carrying channels are not modelled (the rods end at the main tees).
+//! carrying channels are modelled only when given (their mass at the rod
+//! nodes, their beams between them, numbered after every other beam; the
+//! rods end at the main tees).
 
 use serde_json::json;
 
@@ -122,6 +124,7 @@ pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, Genera
     if s.layers == 2 {
         let kg_per_m = params.value_or_midpoint("channel_mass_kg_per_m");
         channel_masses(&rod_tops, s.length_x_m, kg_per_m, &mut m);
+        channel_beams(&rod_tops, params, &mut m);
     }
     m.nodes.extend(walls.iter().chain(&rod_tops).chain(&pieces).copied());
     m.fixities =
@@ -278,6 +281,38 @@ fn channel_masses(rod_tops: &[Node], length_x_m: f64, kg_per_m: f64, m: &mut Mod
     }
 }
 
+/// The seed's carrying channel U50x15x1: A, J, Iy (vertical bending, web
+/// vertical), Iz (mm², mm⁴).
+const CHANNEL_SECTION: [f64; 4] = [70.0, 27.0, 2.9e4, 1.6e3];
+
+/// The carrying channels' beams along x between neighbouring rod nodes of
+/// each row, the section [`CHANNEL_SECTION`] times `channel_beam_factor`
+/// (none at 0).
+fn channel_beams(rod_tops: &[Node], p: &Parameters, m: &mut Model) {
+    let factor = p.value_or_midpoint("channel_beam_factor");
+    if factor <= 0.0 {
+        return;
+    }
+    let sec = CHANNEL_SECTION.map(|v| v * factor);
+    let row_of = |n: &Node| n.xyz_mm[1].to_bits();
+    for (k, a) in rod_tops.iter().enumerate() {
+        let next = rod_tops[k + 1..].iter().filter(|b| row_of(b) == row_of(a));
+        if let Some(b) = next.min_by(|u, v| u.xyz_mm[0].total_cmp(&v.xyz_mm[0])) {
+            if b.xyz_mm[0] > a.xyz_mm[0] {
+                push_beam(
+                    m,
+                    a.id - 200000,
+                    b.id - 200000,
+                    sec,
+                    p,
+                    [0.0, 0.0, 1.0],
+                    "carrying_channel",
+                );
+            }
+        }
+    }
+}
+
 /// A quarter of each panel's mass on each existing corner node (t).
 fn masses(g: &Grid, panel_t: f64, m: &mut Model) {
     let mut node_t = vec![0.0; (g.nx + 1) * (g.ny + 1)];
@@ -315,10 +350,13 @@ fn meta(spec: &CeilingSpec, p: &Parameters, g: &Grid, m: &Model) -> serde_json::
         "grid connections as zero-length springs (K_cc1-3 tee joints, K_mc splices); K_rod not modelled"
     }];
     if spec.structure.layers == 2 {
-        notes.push(if p.value_or_midpoint("channel_mass_kg_per_m") > 0.0 {
-            "layers = 2: carrying channels as mass at the rod nodes (channel_mass_kg_per_m), their stiffness not modelled; rods end at the main tees"
-        } else {
-            "layers = 2: carrying channels not modelled; rods end at the main tees"
+        let mass = p.value_or_midpoint("channel_mass_kg_per_m") > 0.0;
+        let beams = p.value_or_midpoint("channel_beam_factor") > 0.0;
+        notes.push(match (mass, beams) {
+            (false, false) => "layers = 2: carrying channels not modelled; rods end at the main tees",
+            (true, false) => "layers = 2: carrying channels as mass at the rod nodes (channel_mass_kg_per_m), their stiffness not modelled; rods end at the main tees",
+            (false, true) => "layers = 2: carrying channels as beams between the rod nodes (channel_beam_factor), their mass not modelled; rods end at the main tees",
+            (true, true) => "layers = 2: carrying channels as mass at the rod nodes (channel_mass_kg_per_m) and beams between them (channel_beam_factor); rods end at the main tees",
         });
     }
     let variant = match (model.perimeter, model.connections) {
