@@ -8,9 +8,10 @@ use coordinator::diagnose::calibrate::Budget;
 use coordinator::diagnose::pipeline::{diagnose, CandidateResult, DiagnoseOptions, Diagnosis};
 use coordinator::synth::synth_to_dir;
 
-/// The demo campaign with another seed and effect; with `channels_kg_per_m`
-/// a double-layer ceiling whose carrying channels weigh that.
-fn campaign(effect: &str, seed: u64, channels_kg_per_m: Option<f64>) -> String {
+/// The demo campaign with another seed and effect; with `channels` a
+/// double-layer ceiling whose carrying channels weigh that (kg/m) and tie
+/// the main tees by that fraction of the seed's section.
+fn campaign(effect: &str, seed: u64, channels: Option<(f64, f64)>) -> String {
     let text = include_str!("../configs/synth/demo.toml");
     let mut out = String::new();
     for line in text.lines() {
@@ -18,10 +19,11 @@ fn campaign(effect: &str, seed: u64, channels_kg_per_m: Option<f64>) -> String {
             format!("seed = {seed}")
         } else if line.starts_with("effect =") {
             format!("effect = \"{effect}\"")
-        } else if let (Some(_), true) = (channels_kg_per_m, line.starts_with("layers =")) {
+        } else if let (Some(_), true) = (channels, line.starts_with("layers =")) {
             "layers = 2".to_string()
-        } else if let (Some(m), true) = (channels_kg_per_m, line.starts_with("parameters =")) {
-            line.replacen(" }", &format!(", channel_mass_kg_per_m = {m} }}"), 1)
+        } else if let (Some((m, b)), true) = (channels, line.starts_with("parameters =")) {
+            let channels = format!(", channel_mass_kg_per_m = {m}, channel_beam_factor = {b} }}");
+            line.replacen(" }", &channels, 1)
         } else {
             line.to_string()
         };
@@ -114,19 +116,22 @@ fn hidden_connection_hysteresis_is_found() {
     assert!(gain > 0.5, "gain {gain}");
 }
 
-/// A double-layer ceiling whose carrying channels weigh the seed's 2.24
-/// kg/m (as much again as half its panels): without their mass the baseline
-/// is too light, and the hidden pounding must still be found with it.
+/// A double-layer ceiling with the seed's carrying channels, 2.24 kg/m (as
+/// much again as half its panels) rigidly joined to the main tees: without
+/// them the baseline is too light, and the hidden pounding must still be
+/// found with them.
 #[test]
 fn carrying_channels_are_weighed_and_hidden_pounding_found() {
     let seed = 105;
-    let d = diagnosis(&campaign("perimeter-pounding", seed, Some(2.24)), "channels", seed);
+    let d = diagnosis(&campaign("perimeter-pounding", seed, Some((2.24, 1.0))), "channels", seed);
     let form = d.channels.expect("a double-layer ceiling weighs its channels");
-    eprintln!("channels: {form:?}");
+    eprintln!("channels: {form:?}; baseline: {:?}", d.candidates[0].estimates);
     assert!(form.calibrated, "{form:?}");
     let base = &d.candidates[0].estimates;
     let mass = base.iter().find(|e| e.name == "channel_mass_kg_per_m").unwrap();
     assert!((mass.value - 2.24).abs() < 0.25, "{mass:?}");
+    let beams = base.iter().find(|e| e.name == "channel_beam_factor").unwrap();
+    assert!(beams.value > 0.8, "{beams:?}");
     assert_eq!(d.cause.as_str(), "perimeter-pounding");
     assert!(d.gain > 0.5, "gain {}", d.gain);
 }

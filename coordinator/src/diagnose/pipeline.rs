@@ -365,15 +365,15 @@ fn polish_baseline(
 }
 
 /// The baseline's form on a double-layer ceiling: whether it calibrates the
-/// carrying channels' mass ([`super::cause::CHANNELS`]), and the MDL of
-/// each form that decided it.
+/// carrying channels ([`super::cause::CHANNELS`],
+/// [`super::cause::CHANNEL_BEAMS`]), and the MDL of each form that decided it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChannelForm {
-    /// Whether the channels' mass is calibrated.
+    /// Whether the channels are calibrated.
     pub calibrated: bool,
     /// MDL (nats, under the mid-point weights) without the channels.
     pub mdl_without: f64,
-    /// MDL with the channels' mass calibrated.
+    /// MDL with the channels calibrated.
     pub mdl_with: f64,
     /// FE points the form not chosen spent.
     pub fe_points_other: usize,
@@ -390,7 +390,7 @@ struct BaselineForm {
 /// The baseline calibrated on `cal_runs` under weights `n_eff0`, and its
 /// best design point; an error when it failed at every point. On a
 /// double-layer ceiling (carrying channels above the grid) it is calibrated
-/// with and without the channels' mass, and the form of lower MDL is kept
+/// with and without the channels, and the form of lower MDL is kept
 /// (the one without on a tie within [`TIE_NATS`]).
 fn calibrate_baseline(
     b: &Bundle,
@@ -402,7 +402,7 @@ fn calibrate_baseline(
 ) -> Result<BaselineForm, DiagnoseError> {
     let mut one_form = |channels: bool| -> Result<(Calibration, f64), DiagnoseError> {
         let stage = if channels {
-            "calibrating none (baseline, carrying channels' mass)"
+            "calibrating none (baseline, carrying channels)"
         } else {
             "calibrating none (baseline)"
         };
@@ -424,6 +424,13 @@ fn calibrate_baseline(
     let (plain, mdl_without) = one_form(false)?;
     let (chosen, channels) = if b.manifest.structure.layers == 2 {
         let (heavy, mdl_with) = one_form(true)?;
+        if heavy.best(n_eff0).is_none() {
+            let why = heavy.points.iter().find_map(|p| p.fit.as_ref().err()).cloned();
+            let why = why.unwrap_or_else(|| "no point was run".into());
+            return Err(DiagnoseError::Model(format!(
+                "the baseline with carrying channels failed at every design point: {why}"
+            )));
+        }
         let calibrated = mdl_with < mdl_without - TIE_NATS;
         let (chosen, other) = if calibrated { (heavy, plain) } else { (plain, heavy) };
         let fe_points_other = other.fe_points();

@@ -263,20 +263,21 @@ fn error_chart(
 }
 
 /// On a double-layer ceiling, a note on whether the baseline calibrates the
-/// carrying channels' mass, with the MDL of both forms.
+/// carrying channels (their mass and beams), with the MDL of both forms.
 fn channels_note(d: &Diagnosis) -> Option<Block> {
     let f = d.channels?;
     let choice = if f.calibrated {
-        "it is lower with the channels' mass calibrated, so every model carries it"
+        "it is lower with the channels calibrated, so every model carries them"
     } else {
-        "the channels' mass does not earn its parameter, so no model carries it"
+        "the channels do not earn their parameters, so no model carries them"
     };
     Some(Block::Note {
         kind: NoteKind::Info,
         text: format!(
             "A double-layer ceiling has carrying channels above the grid. The baseline's MDL is \
-             {:.1} nats without their mass and {:.1} with it (kg/m along x, lumped at the rod \
-             nodes; {} FE points spent on the form not kept): {choice}.",
+             {:.1} nats without them and {:.1} with them (their mass in kg/m along x, lumped at \
+             the rod nodes, and their beams between the rod nodes as a fraction of the seed's \
+             U50x15x1; {} FE points spent on the form not kept): {choice}.",
             f.mdl_without, f.mdl_with, f.fe_points_other
         ),
     })

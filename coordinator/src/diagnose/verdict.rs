@@ -150,7 +150,7 @@ pub struct VerdictJson {
     /// FE parameter points spent in all.
     pub fe_points: usize,
     /// On a double-layer ceiling, whether every model calibrates the
-    /// carrying channels' mass (an extra field, which the format allows).
+    /// carrying channels (an extra field, which the format allows).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub baseline_channels: Option<ChannelsJson>,
     /// The symptoms, when given ([`VerdictJson::with_symptoms`]).
@@ -158,14 +158,15 @@ pub struct VerdictJson {
     pub symptoms: Vec<SymptomJson>,
 }
 
-/// The choice of the carrying channels' mass as written.
+/// The choice of the carrying channels as written.
 #[derive(Debug, Clone, Serialize)]
 pub struct ChannelsJson {
-    /// Whether the channels' mass (`channel_mass_kg_per_m`) is calibrated.
+    /// Whether the channels (`channel_mass_kg_per_m`, `channel_beam_factor`)
+    /// are calibrated.
     pub calibrated: bool,
-    /// The baseline's MDL without it (nats, under the mid-point weights).
+    /// The baseline's MDL without them (nats, under the mid-point weights).
     pub mdl_without: f64,
-    /// The baseline's MDL with it.
+    /// The baseline's MDL with them.
     pub mdl_with: f64,
 }
 
