@@ -424,13 +424,7 @@ fn calibrate_baseline(
     let (plain, mdl_without) = one_form(false)?;
     let (chosen, channels) = if b.manifest.structure.layers == 2 {
         let (heavy, mdl_with) = one_form(true)?;
-        if heavy.best(n_eff0).is_none() {
-            let why = heavy.points.iter().find_map(|p| p.fit.as_ref().err()).cloned();
-            let why = why.unwrap_or_else(|| "no point was run".into());
-            return Err(DiagnoseError::Model(format!(
-                "the baseline with carrying channels failed at every design point: {why}"
-            )));
-        }
+        best_point(&heavy, n_eff0, "the baseline with carrying channels")?;
         let calibrated = mdl_with < mdl_without - TIE_NATS;
         let (chosen, other) = if calibrated { (heavy, plain) } else { (plain, heavy) };
         let fe_points_other = other.fe_points();
@@ -438,10 +432,18 @@ fn calibrate_baseline(
     } else {
         (plain, None)
     };
-    let best = chosen
-        .best(n_eff0)
-        .ok_or_else(|| DiagnoseError::Model("the baseline failed at every design point".into()))?;
+    let best = best_point(&chosen, n_eff0, "the baseline")?;
     Ok(BaselineForm { chosen, best, channels })
+}
+
+/// The best design point of `cal` under weights `n_eff`; an error naming
+/// `what` and the first point's failure when it failed at every point.
+fn best_point(cal: &Calibration, n_eff: &[f64], what: &str) -> Result<usize, DiagnoseError> {
+    cal.best(n_eff).ok_or_else(|| {
+        let why = cal.points.iter().find_map(|p| p.fit.as_ref().err());
+        let why = why.map_or("no point was run", String::as_str);
+        DiagnoseError::Model(format!("{what} failed at every design point: {why}"))
+    })
 }
 
 /// The demand of the calibration runs on the baseline at its design point
