@@ -18,7 +18,7 @@ use super::linear_part::calibrate_linear_part;
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use super::posterior::VariationalPosterior;
 use super::posterior_check::checked_posterior;
-use super::refine::{planned_runs, refine, refine_walks};
+use super::refine::{planned_runs, refine, refine_walks, twin_walks};
 use crate::bundle::{Bundle, Direction, RunRole};
 use stats::gp::Gp;
 
@@ -578,8 +578,8 @@ impl After<'_> {
     }
 
     /// Tries the named extension damped on its springs' committed tangent
-    /// ([`super::damping_form`]), searched and refined as the named one
-    /// was: when that twin fits the calibration runs better, it replaces
+    /// ([`super::damping_form`]), searched and, in a small campaign,
+    /// refined as the named one was ([`twin_walks`]): when that twin fits the calibration runs better, it replaces
     /// the extension's calibration and `result` becomes its assessment
     /// (with every FE point spent); else `result` only counts the twin's
     /// FE points.
@@ -593,8 +593,10 @@ impl After<'_> {
         let Named { cal, part } = named;
         let stage = format!("{} damped on the committed tangent", cal.cause.as_str());
         let (own, walks) = self.walks(cal);
+        let walks = twin_walks(walks, campaign_work(self.b, self.runs.0));
         let budget = &self.opts.budget;
-        let planned = 2 * budget.local + planned_runs(budget, walks, own);
+        let refining = if walks > 0 { planned_runs(budget, walks, own) } else { 0 };
+        let planned = 2 * budget.local + refining;
         let mut report = |d| progress(&stage, d, planned);
         let (b, runs, n_eff0) = (self.b, self.runs.0, self.n_eff.0);
         let Some(mut twin) =
