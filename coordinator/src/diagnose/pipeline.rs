@@ -579,10 +579,10 @@ impl After<'_> {
 
     /// Tries the named extension damped on its springs' committed tangent
     /// ([`super::damping_form`]), searched and, in a small campaign,
-    /// refined as the named one was ([`twin_walks`]): when that twin fits the calibration runs better, it replaces
-    /// the extension's calibration and `result` becomes its assessment
-    /// (with every FE point spent); else `result` only counts the twin's
-    /// FE points.
+    /// refined as the named one was ([`twin_walks`]): when that twin fits
+    /// the calibration runs better, it replaces the extension's calibration
+    /// and `result` becomes its assessment (with every FE point spent);
+    /// else `result` only counts the twin's FE points.
     fn committed_form(
         &self,
         named: Named<'_>,
