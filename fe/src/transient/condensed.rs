@@ -18,14 +18,12 @@
 //! refactorization, and ‖Δu‖₂ comes from ZᵀZ. Z, G and ZᵀZ are computed
 //! once per step size. Units: N, mm, s.
 
-use faer::linalg::solvers::{PartialPivLu, SolveCore};
-use faer::{Conj, Mat, MatMut};
-
 use super::factor_cache::{FactorCache, TangentFactor};
 use super::low_rank::w_dot;
 use super::newmark::NewmarkConstants;
 use super::newton::{Dynamics, Kinematics, NewtonFailure, NewtonSettings, Step};
 use super::round_off::at_round_off;
+use super::spring_lu::SpringLu;
 use super::springs::SpringStates;
 use crate::assembly::Structure;
 use crate::materials::MaterialSpec;
@@ -53,19 +51,13 @@ struct Basis {
     ztz: Vec<f64>,
 }
 
-/// A dense LU of I + G δ on the active springs, kept while the basis and δ
-/// are unchanged.
-struct DenseLu {
-    basis: usize,
-    delta: Vec<f64>,
-    active: Vec<usize>,
-    lu: PartialPivLu<f64>,
-}
-
-/// The dense Newton system on the springs and its kept LU.
+/// The dense Newton system on the springs and its kept LU of I + G δ,
+/// valid while the basis and δ are unchanged.
 #[derive(Default)]
 struct DenseSystem {
-    lu: Option<DenseLu>,
+    lu: SpringLu,
+    /// Basis and δ of the kept LU (None before the first).
+    kept: Option<(usize, Vec<f64>)>,
     /// Dense LU factorizations of I + G δ done so far.
     factorizations: usize,
 }
@@ -174,32 +166,20 @@ impl DenseSystem {
     /// the others substituted.
     fn increment(&mut self, basis: usize, g: &[f64], delta: &[f64], phi: &[f64], dd: &mut [f64]) {
         let m = delta.len();
-        if self.lu.as_ref().is_none_or(|l| l.basis != basis || l.delta != delta) {
-            let active: Vec<usize> = (0..m).filter(|&k| delta[k] != 0.0).collect();
-            let j = Mat::<f64>::from_fn(active.len(), active.len(), |r, c| {
-                let (a, b) = (active[r], active[c]);
-                f64::from(u8::from(r == c)) + g[a + b * m] * delta[b]
-            });
-            let lu = j.partial_piv_lu();
+        if self.kept.as_ref().is_none_or(|(b, d)| *b != basis || d != delta) {
+            self.lu.factor(g, delta);
             self.factorizations += 1;
-            self.lu = Some(DenseLu { basis, delta: delta.to_vec(), active, lu });
+            self.kept = Some((basis, delta.to_vec()));
         }
-        let Some(l) = &self.lu else { return };
-        let mut x: Vec<f64> = l.active.iter().map(|&a| -phi[a]).collect();
-        if !x.is_empty() {
-            let r = x.len();
-            l.lu.solve_in_place_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(&mut x, r, 1),
-            );
-        }
+        let mut x: Vec<f64> = self.lu.active().iter().map(|&a| -phi[a]).collect();
+        self.lu.solve_in_place(&mut x);
         dd.iter_mut().zip(phi).for_each(|(d, p)| *d = -p);
-        for (&b, xb) in l.active.iter().zip(&x) {
+        for (&b, xb) in self.lu.active().iter().zip(&x) {
             let c = delta[b] * xb;
             let col = &g[b * m..(b + 1) * m];
             dd.iter_mut().zip(col).for_each(|(d, gv)| *d -= gv * c);
         }
-        for (&a, xa) in l.active.iter().zip(&x) {
+        for (&a, xa) in self.lu.active().iter().zip(&x) {
             dd[a] = *xa;
         }
     }

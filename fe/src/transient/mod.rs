@@ -20,6 +20,7 @@ pub mod newton;
 pub mod recorders;
 pub mod round_off;
 pub mod spec;
+pub mod spring_lu;
 pub mod springs;
 pub mod subdivision;
 pub mod tangent_damping;
