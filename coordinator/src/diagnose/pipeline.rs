@@ -7,7 +7,7 @@
 use super::calibrate::{calibrate, evaluate_points, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
-use super::damping_form::{calibrate_committed_twin, twin_wins};
+use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins};
 use super::ensemble;
 use super::evidence::pga_g;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
@@ -578,11 +578,11 @@ impl After<'_> {
     }
 
     /// Tries the named extension damped on its springs' committed tangent
-    /// ([`super::damping_form`]), searched and, in a small campaign,
-    /// refined as the named one was ([`twin_walks`]): when that twin fits
-    /// the calibration runs better, it replaces the extension's calibration
-    /// and `result` becomes its assessment (with every FE point spent);
-    /// else `result` only counts the twin's FE points.
+    /// ([`super::damping_form`]), searched ([`twin_starts`]) and, in a
+    /// small campaign, refined as the named one was ([`twin_walks`]): when
+    /// that twin fits the calibration runs better, it replaces the
+    /// extension's calibration and `result` becomes its assessment (with
+    /// every FE point spent); else `result` only counts the twin's FE points.
     fn committed_form(
         &self,
         named: Named<'_>,
@@ -593,10 +593,12 @@ impl After<'_> {
         let Named { cal, part } = named;
         let stage = format!("{} damped on the committed tangent", cal.cause.as_str());
         let (own, walks) = self.walks(cal);
-        let walks = twin_walks(walks, campaign_work(self.b, self.runs.0));
+        let work = campaign_work(self.b, self.runs.0);
+        let (walks, starts) = (twin_walks(walks, work), twin_starts(work));
         let budget = &self.opts.budget;
         let refining = if walks > 0 { planned_runs(budget, walks, own) } else { 0 };
-        let planned = 2 * budget.local + refining;
+        let starts_run = if starts == 1 { 2 } else { 0 };
+        let planned = starts * budget.local + starts_run + refining;
         let mut report = |d| progress(&stage, d, planned);
         let (b, runs, n_eff0) = (self.b, self.runs.0, self.n_eff.0);
         let Some(mut twin) =
