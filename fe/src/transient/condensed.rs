@@ -18,6 +18,7 @@
 //! refactorization, and ‖Δu‖₂ comes from ZᵀZ. Z, G and ZᵀZ are computed
 //! once per step size. Units: N, mm, s.
 
+use super::cycle::TangentHistory;
 use super::factor_cache::{FactorCache, TangentFactor};
 use super::low_rank::w_dot;
 use super::newmark::NewmarkConstants;
@@ -344,10 +345,12 @@ impl Dynamics<'_> {
         let (mut phi, mut dd, mut scale) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
         let mut solved: Option<(Vec<f64>, Vec<f64>)> = None; // (δ, ĝ) of the last solve
         let mut last = f64::NAN;
+        let mut tangents = TangentHistory::default();
         for it in 1..=settings.max_iter {
             if it > 1 {
                 c.trial(s, springs, &mut v)?;
             }
+            tangents.record(it, &v.delta)?;
             c.phi(&st, &v, &mut phi);
             let kept = solved.as_ref().is_some_and(|(delta, _)| *delta == v.delta);
             let floor = it > 1

@@ -10,6 +10,7 @@
 //! Units: N, mm, s, t; accelerations mm/s².
 
 pub mod condensed;
+pub mod cycle;
 pub mod excitation;
 pub mod factor_cache;
 pub mod history;

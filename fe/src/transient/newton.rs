@@ -106,6 +106,14 @@ pub enum NewtonFailure {
         /// Last ‖Δu‖₂ (mm).
         last_norm_mm: f64,
     },
+    /// The iterations returned to the spring tangents of an earlier one
+    /// (not the last), so on piecewise-linear springs they cycle.
+    Cycling {
+        /// Iteration whose tangents repeat.
+        iteration: usize,
+        /// The earlier iteration with the same tangents.
+        earlier: usize,
+    },
     /// The increment became NaN or infinite (singular or unstable tangent).
     NonFinite {
         /// Iteration at which it happened.
@@ -125,6 +133,9 @@ impl std::fmt::Display for NewtonFailure {
         match self {
             NewtonFailure::MaxIterations { iterations, last_norm_mm } => {
                 write!(f, "no convergence in {iterations} Newton iterations (|du| = {last_norm_mm:.3e} mm)")
+            }
+            NewtonFailure::Cycling { iteration, earlier } => {
+                write!(f, "Newton iteration {iteration} returned to the spring tangents of iteration {earlier}: cycling")
             }
             NewtonFailure::NonFinite { iteration } => {
                 write!(f, "non-finite displacement increment at Newton iteration {iteration}")
