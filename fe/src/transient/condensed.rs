@@ -456,20 +456,9 @@ fn phi_scale(g: &[f64], v: &SpringVectors, start: &SpringVectors, d0: &[f64], ou
 
 #[cfg(test)]
 mod tests {
+    use super::super::spring_lu::spd;
     use super::*;
     use proptest::prelude::*;
-
-    /// A symmetric positive definite m × m matrix, column-major.
-    fn spd(m: usize, entries: &[f64]) -> Vec<f64> {
-        let mut g = vec![0.0; m * m];
-        for a in 0..m {
-            for b in 0..m {
-                let dot: f64 = (0..m).map(|k| entries[k + a * m] * entries[k + b * m]).sum();
-                g[a + b * m] = dot + if a == b { 1.0 } else { 0.0 };
-            }
-        }
-        g
-    }
 
     proptest! {
         /// The active-set solve satisfies (I + G δ) Δd = −φ for any δ with

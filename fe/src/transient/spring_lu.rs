@@ -85,23 +85,24 @@ impl SpringLu {
     }
 }
 
+/// AᵀA + I for A m × m column-major: symmetric positive definite, as
+/// G = Wᵀ K₀⁻¹ W is positive semi-definite (a test matrix).
+#[cfg(test)]
+pub(super) fn spd(m: usize, a: &[f64]) -> Vec<f64> {
+    let mut g = vec![0.0; m * m];
+    for i in 0..m {
+        for j in 0..m {
+            let dot: f64 = (0..m).map(|k| a[k + i * m] * a[k + j * m]).sum();
+            g[i + j * m] = dot + f64::from(u8::from(i == j));
+        }
+    }
+    g
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use proptest::prelude::*;
-
-    /// AᵀA + I for A m × m column-major (symmetric positive definite, as
-    /// G = Wᵀ K₀⁻¹ W is positive semi-definite).
-    fn spd(m: usize, a: &[f64]) -> Vec<f64> {
-        let mut g = vec![0.0; m * m];
-        for i in 0..m {
-            for j in 0..m {
-                let dot: f64 = (0..m).map(|k| a[k + i * m] * a[k + j * m]).sum();
-                g[i + j * m] = dot + f64::from(u8::from(i == j));
-            }
-        }
-        g
-    }
 
     proptest! {
         /// The factors solve J_AA x = b on the active springs, for δ ≥ 0
