@@ -20,6 +20,7 @@
 //! Units: N, mm, s, t.
 
 use super::condensed::Condensed;
+use super::cycle::TangentHistory;
 use super::factor_cache::{CholeskyLayout, FactorCache, TangentFactor};
 use super::krylov::KrylovAccelerator;
 use super::low_rank::{LowRankUpdate, SpringEqs};
@@ -448,8 +449,13 @@ impl<'a> Dynamics<'a> {
         let &Step { nm, committed, ext, settings } = step;
         trial.u.clone_from(&committed.u);
         let mut st = SparseIteration::new(committed.u.len(), settings);
+        let mut tangents = TangentHistory::default();
         for it in 1..=settings.max_iter {
             self.set_trial_state(nm, committed, trial, springs)?;
+            // Only exact iterates are fixed by their predecessor's pieces.
+            if settings.stale_max_iter == 0 {
+                tangents.record(it, &springs.tangent_n_mm)?;
+            }
             self.residual(trial, springs, ext, &mut st.r);
             // An increment solved with the exact tangent that left every
             // spring on the tangent it was solved with is, for springs
