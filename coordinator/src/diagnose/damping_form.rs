@@ -66,7 +66,7 @@ pub fn calibrate_committed_twin(
     let mut from_mid = from_estimate.clone();
     own.iter().for_each(|&i| from_mid[i] = 0.5);
     let mut starts = vec![from_estimate, from_mid];
-    if twin_starts(campaign_work(bundle, runs)) == 1 {
+    if twin_starts(campaign_work(bundle, runs)) < starts.len() {
         search.evaluate_into(&mut twin, &starts, progress)?;
         starts = vec![better_start(&twin, starts, n_eff)];
     }
@@ -96,9 +96,13 @@ pub fn twin_starts(work: f64) -> usize {
     if is_large(work) {
         1
     } else {
-        2
+        TWIN_STARTS
     }
 }
+
+/// Starts the twin may be searched from: the extension's estimate, and
+/// there with the extension's own parameters at their prior mid-points.
+pub const TWIN_STARTS: usize = 2;
 
 /// The start of `starts` whose evaluation in `twin` fits best under
 /// `n_eff` (the first when none was evaluated or all failed).

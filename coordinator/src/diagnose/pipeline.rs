@@ -7,7 +7,7 @@
 use super::calibrate::{calibrate, evaluate_points, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
-use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins};
+use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::ensemble;
 use super::evidence::pga_g;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
@@ -597,7 +597,7 @@ impl After<'_> {
         let (walks, starts) = (twin_walks(walks, work), twin_starts(work));
         let budget = &self.opts.budget;
         let refining = if walks > 0 { planned_runs(budget, walks, own) } else { 0 };
-        let starts_run = if starts == 1 { 2 } else { 0 };
+        let starts_run = if starts < TWIN_STARTS { TWIN_STARTS } else { 0 };
         let planned = starts * budget.local + starts_run + refining;
         let mut report = |d| progress(&stage, d, planned);
         let (b, runs, n_eff0) = (self.b, self.runs.0, self.n_eff.0);
