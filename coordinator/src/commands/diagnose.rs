@@ -185,17 +185,19 @@ fn write_diagnosis(
     Ok((v, report))
 }
 
-/// Prints the cause named and any warning that it is unconfirmed or leaves runs unexplained.
+/// Prints the cause named and any warning: an extension set aside as unconfirmed, or runs
+/// left unexplained.
 fn print_verdict(v: &VerdictJson, d: &Diagnosis) {
     eprintln!(
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",
         v.cause, v.gain, v.baseline_validation_error, v.extended_validation_error, v.fe_points
     );
-    if coordinator::diagnose::verdict_notes::unconfirmed_note(d).is_some() {
+    if let Some(c) = d.unconfirmed {
         eprintln!(
-            "warning: {} predicts the validation runs no better than the baseline: the cause \
-             is not confirmed (see the report's verdict)",
-            v.cause
+            "warning: {} fits the calibration runs better, but predicts the validation runs no \
+             better than the baseline: the cause is not confirmed and the baseline is named \
+             (see the report's verdict)",
+            c.as_str()
         );
     }
     if coordinator::diagnose::verdict_notes::unexercised_note(d).is_some() {

@@ -67,8 +67,9 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
     if let Some(c) = chosen {
         blocks.push(Block::Paragraph(format!(
             "Every candidate model was calibrated on the calibration runs and scored by its \
-             minimum description length; {} is chosen ({:.1} nats: the lowest, where an \
-             extension must beat the baseline by {MISFIT_NATS} nats). Validation errors are \
+             minimum description length; {} is chosen ({:.1} nats). The lowest MDL is chosen, \
+             where an extension must beat the baseline by {MISFIT_NATS} nats and predict the \
+             validation runs better than it{}. Validation errors are \
              the mean over the sensors of the validation runs of the normalised RMS error in \
              excess of the sensor noise, √max(MSE − σ², 0) / √(MS − σ²) (MSE of simulated − \
              measured, MS of measured), 0 for a model that misses by the noise alone, each \
@@ -78,6 +79,11 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
              candidate models. Raw NRMSE (noise included): baseline {}, extended {}.",
             c.cause.as_str(),
             c.mdl.as_ref().map_or(f64::NAN, |m| m.total),
+            if d.unconfirmed.is_some() {
+                " (the extension of lowest MDL did not: see below)"
+            } else {
+                ""
+            },
             num(d.candidates[0].validation_nrmse),
             num(c.validation_nrmse),
         )));

@@ -231,5 +231,6 @@ fn sdof_diagnosis(
         gain: 0.0,
         fe_points: 0,
         channels: None,
+        unconfirmed: None,
     }
 }

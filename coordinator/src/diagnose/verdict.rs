@@ -135,6 +135,11 @@ pub struct VerdictJson {
     pub bundle: String,
     /// The cause named.
     pub cause: String,
+    /// The extension the MDL chose but the validation runs did not confirm
+    /// (it predicts them no better than the baseline, which is named
+    /// instead; an extra field, which the format allows).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unconfirmed_cause: Option<String>,
     /// Every candidate, the baseline first.
     pub candidates: Vec<CandidateJson>,
     /// Baseline error on the validation runs.
@@ -225,6 +230,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
         format: FORMAT.into(),
         bundle: d.bundle.clone(),
         cause: d.cause.as_str().into(),
+        unconfirmed_cause: d.unconfirmed.map(|c| c.as_str().into()),
         candidates: d
             .candidates
             .iter()

@@ -13,26 +13,30 @@ use crate::report::{Block, NoteKind};
 /// prediction is called far worse than the baseline's (gain below −1).
 const FAR_WORSE: f64 = 2.0;
 
-/// A warning when an extension is named but predicts the validation runs
-/// no better than the baseline: its cause is not confirmed by the runs it
-/// was not calibrated on.
+/// A warning when the MDL chose an extension that predicts the validation
+/// runs no better than the baseline, so that the baseline is named
+/// ([`Diagnosis::unconfirmed`]): the runs it was not calibrated on do not
+/// confirm its cause.
 pub fn unconfirmed_note(d: &Diagnosis) -> Option<Block> {
-    let (base, ext) = (d.baseline_validation_error, d.extended_validation_error);
-    if d.cause == Cause::None || !(base.is_finite() && ext.is_finite()) || ext < base {
-        return None;
-    }
+    let cause = d.unconfirmed?;
+    let ext = d.candidates.iter().find(|c| c.cause == cause)?;
+    let base = d.candidates.iter().find(|c| c.cause == Cause::None)?;
+    let total = |c: &super::pipeline::CandidateResult| c.mdl.as_ref().map_or(f64::NAN, |m| m.total);
+    let (bv, ev) = (base.validation_error, ext.validation_error);
     let mut text = format!(
-        "{} fits the calibration runs better than the baseline, but it predicts the \
-         validation runs no better (validation error {} against {}, gain {:.3}): the runs it \
-         was not calibrated on do not confirm this cause. The calibration runs may not \
-         exercise the physics the validation runs show, or the extension may stand in for \
-         another misfit of the model. Treat the cause as unconfirmed.",
-        d.cause.as_str(),
-        num(ext),
-        num(base),
-        d.gain
+        "{} fits the calibration runs better than the baseline (MDL {:.1} nats lower, enough \
+         to name it), but it predicts the validation runs no better (validation error {} \
+         against {}, gain {:.3}): the runs it was not calibrated on do not confirm it, so the \
+         baseline is named. The extension may stand in for another misfit of the model (the \
+         damping's form, the mass or stiffness of parts it holds fixed), or the calibration \
+         runs may not exercise the physics the validation runs show.",
+        cause.as_str(),
+        total(base) - total(ext),
+        num(ev),
+        num(bv),
+        1.0 - ev / bv
     );
-    if ext > FAR_WORSE * base {
+    if ev > FAR_WORSE * bv {
         text.push_str(
             " Its prediction is far worse than the baseline's: the validation runs drive it \
              beyond what the calibration runs constrain.",
@@ -149,26 +153,33 @@ mod tests {
     }
 
     #[test]
-    fn a_named_cause_the_validation_runs_do_not_confirm_is_flagged() {
+    fn an_extension_the_validation_runs_do_not_confirm_is_flagged() {
         let (_, mut d) = pounding_diagnosis(true, true);
-        d.baseline_validation_error = 0.2;
-        d.extended_validation_error = 0.05;
-        d.gain = 0.75;
-        assert_eq!(warning_text(unconfirmed_note(&d)), None, "a confirmed cause");
-        d.extended_validation_error = 0.3;
-        d.gain = -0.5;
-        let text = warning_text(unconfirmed_note(&d)).expect("an unconfirmed cause");
-        assert!(text.contains("perimeter-pounding") && text.contains("gain -0.500"), "{text}");
-        assert!(text.contains("unconfirmed") && !text.contains("far worse"), "{text}");
-        d.extended_validation_error = 4.9;
-        d.gain = 1.0 - 4.9 / 0.2;
-        let text = warning_text(unconfirmed_note(&d)).expect("an unconfirmed cause");
-        assert!(text.contains("far worse"), "{text}");
-        // The baseline named, or no validation errors: nothing to confirm.
+        let set = |d: &mut Diagnosis, cause: Cause, mdl: f64, val: f64| {
+            let c = d.candidates.iter_mut().find(|c| c.cause == cause).unwrap();
+            c.validation_error = val;
+            c.mdl = Some(crate::diagnose::mdl::Mdl {
+                fit: mdl,
+                parametric: 0.0,
+                geometric: 0.0,
+                geometric_se: 0.0,
+                total: mdl,
+                k: 1,
+                n_eff: 1e4,
+            });
+        };
+        set(&mut d, Cause::None, -17530.9, 0.0092);
+        set(&mut d, Cause::PerimeterPounding, -17645.9, 0.0100);
+        assert_eq!(warning_text(unconfirmed_note(&d)), None, "nothing set aside");
         d.cause = Cause::None;
-        assert_eq!(warning_text(unconfirmed_note(&d)), None);
-        let (_, d) = pounding_diagnosis(true, true);
-        assert_eq!(warning_text(unconfirmed_note(&d)), None, "NaN errors");
+        d.unconfirmed = Some(Cause::PerimeterPounding);
+        let text = warning_text(unconfirmed_note(&d)).expect("an unconfirmed extension");
+        assert!(text.contains("perimeter-pounding") && text.contains("115.0 nats"), "{text}");
+        assert!(text.contains("0.0100") && text.contains("0.0092"), "{text}");
+        assert!(text.contains("gain -0.087") && !text.contains("far worse"), "{text}");
+        set(&mut d, Cause::PerimeterPounding, -17645.9, 0.0200);
+        let text = warning_text(unconfirmed_note(&d)).expect("an unconfirmed extension");
+        assert!(text.contains("far worse"), "{text}");
     }
 
     #[test]
