@@ -887,16 +887,7 @@ mod tests {
 
     /// A candidate with MDL `total` and its linear part's `linear`.
     fn scored(cause: Cause, total: f64, linear: Option<f64>) -> CandidateResult {
-        let k = cause.priors().len();
-        let mdl = Mdl {
-            fit: total,
-            parametric: 0.0,
-            geometric: 0.0,
-            geometric_se: 0.0,
-            total,
-            k,
-            n_eff: 1e4,
-        };
+        let mdl = crate::diagnose::testkit::mdl_of(total, cause.priors().len());
         CandidateResult { linear_part_mdl: linear, ..CandidateResult::unassessed(cause, Some(mdl)) }
     }
 

@@ -590,17 +590,8 @@ mod tests {
 
     #[test]
     fn a_baseline_kept_against_a_lower_mdl_says_why() {
-        use crate::diagnose::mdl::Mdl;
         let (_, mut d) = pounding_diagnosis(false, true);
-        let mdl = |total| Mdl {
-            fit: total,
-            parametric: 0.0,
-            geometric: 0.0,
-            geometric_se: 0.0,
-            total,
-            k: 2,
-            n_eff: 1e4,
-        };
+        let mdl = |total| crate::diagnose::testkit::mdl_of(total, 2);
         d.candidates[0].mdl = Some(mdl(-100.0));
         d.candidates[1].mdl = Some(mdl(-130.0));
         let text = match misfit_note(&d) {

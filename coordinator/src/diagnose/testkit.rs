@@ -234,3 +234,16 @@ fn sdof_diagnosis(
         unconfirmed: None,
     }
 }
+
+/// An MDL of `total` nats, all of it fit, for `k` parameters.
+pub fn mdl_of(total: f64, k: usize) -> super::mdl::Mdl {
+    super::mdl::Mdl {
+        fit: total,
+        parametric: 0.0,
+        geometric: 0.0,
+        geometric_se: 0.0,
+        total,
+        k,
+        n_eff: 1e4,
+    }
+}

@@ -158,15 +158,7 @@ mod tests {
         let set = |d: &mut Diagnosis, cause: Cause, mdl: f64, val: f64| {
             let c = d.candidates.iter_mut().find(|c| c.cause == cause).unwrap();
             c.validation_error = val;
-            c.mdl = Some(crate::diagnose::mdl::Mdl {
-                fit: mdl,
-                parametric: 0.0,
-                geometric: 0.0,
-                geometric_se: 0.0,
-                total: mdl,
-                k: 1,
-                n_eff: 1e4,
-            });
+            c.mdl = Some(crate::diagnose::testkit::mdl_of(mdl, 1));
         };
         set(&mut d, Cause::None, -17530.9, 0.0092);
         set(&mut d, Cause::PerimeterPounding, -17645.9, 0.0100);
