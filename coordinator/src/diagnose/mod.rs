@@ -8,6 +8,7 @@ pub mod calibrate;
 pub mod campaign;
 pub mod campaign_size;
 pub mod cause;
+pub mod channel_start;
 pub mod damping_form;
 pub mod damping_path;
 pub mod ensemble;

@@ -7,6 +7,7 @@
 use super::calibrate::{calibrate, evaluate_points, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
+use super::channel_start::{search_seed_section, seed_section_start};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::ensemble;
 use super::evidence::pga_g;
@@ -395,8 +396,10 @@ struct BaselineForm {
 /// The baseline calibrated on `cal_runs` under weights `n_eff0`, and its
 /// best design point; an error when it failed at every point. On a
 /// double-layer ceiling (carrying channels above the grid) it is calibrated
-/// with and without the channels, and the form of lower MDL is kept
-/// (the one without on a tie within [`TIE_NATS`]).
+/// with and without the channels (with them, searched again from the seed's
+/// section when the first search ended low: [`search_seed_section`]), and
+/// the form of lower MDL is kept (the one without on a tie within
+/// [`TIE_NATS`]).
 fn calibrate_baseline(
     b: &Bundle,
     cal_runs: &[usize],
@@ -412,7 +415,7 @@ fn calibrate_baseline(
             "calibrating none (baseline)"
         };
         let priors = baseline_priors(channels);
-        let cal = calibrate(
+        let mut cal = calibrate(
             b,
             (Cause::None, &priors),
             cal_runs,
@@ -422,6 +425,14 @@ fn calibrate_baseline(
             exec,
             &mut |d, n| progress(stage, d, n),
         )?;
+        if channels && seed_section_start(&cal, n_eff0).is_some() {
+            let (done, planned) = (cal.points.len(), cal.points.len() + opts.budget.local);
+            let stage = "calibrating none (baseline, channels at the seed's section)";
+            progress(stage, done, planned);
+            search_seed_section(b, &mut cal, cal_runs, n_eff0, &opts.budget, exec, &mut |d| {
+                progress(stage, done + d, planned)
+            })?;
+        }
         let gp = cal.emulator(n_eff0);
         let total = mdl(&cal, gp.as_ref(), n_eff0, (0.0, 0.0)).map_or(f64::INFINITY, |m| m.total);
         Ok((cal, total))
