@@ -204,12 +204,15 @@ const CONNECTION: [Prior; 4] = [
 /// parameter at the top of its prior (the physics never switching on in the
 /// calibration runs) the extension is a linear model, and these of its own
 /// parameters still change it (the connections' initial stiffness).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LinearPart {
     /// The parameter whose value sets the onset (held at its prior's top).
     pub onset: &'static str,
     /// The extension's own parameters that act below the onset.
     pub linear: &'static [&'static str],
+    /// The value of each of `linear` at which the linear part is the
+    /// baseline (a connection stiffness factor of 1).
+    pub nesting: &'static [f64],
 }
 
 /// Initial stiffness of the unscaled CJS-A backbone (N/mm): 150 N at 0.5 mm.
@@ -350,9 +353,11 @@ impl Cause {
     /// baseline (pounding and friction do nothing before contact or slip).
     pub fn linear_part(self) -> Option<LinearPart> {
         match self {
-            Cause::ConnectionHysteresis => {
-                self.onset().map(|onset| LinearPart { onset, linear: &["conn_stiffness_factor"] })
-            }
+            Cause::ConnectionHysteresis => self.onset().map(|onset| LinearPart {
+                onset,
+                linear: &["conn_stiffness_factor"],
+                nesting: &[1.0],
+            }),
             _ => None,
         }
     }
@@ -388,6 +393,7 @@ mod tests {
             let own: Vec<&str> = c.extra_priors().iter().map(|p| p.name).collect();
             assert!(own.contains(&lp.onset), "{c:?}");
             assert!(lp.linear.iter().all(|n| own.contains(n) && *n != lp.onset), "{c:?}");
+            assert_eq!(lp.linear.len(), lp.nesting.len(), "{c:?}");
         }
         assert!(Cause::ConnectionHysteresis.linear_part().is_some());
         assert_eq!(

@@ -7,18 +7,25 @@
 //! is stiffer than assumed) gives as well is no evidence of the
 //! nonlinearity.
 
-use super::calibrate::{Budget, Calibration, Scale, Search};
+use super::calibrate::{evaluate_points, Budget, Calibration, Scale, Search};
+use super::cause::LinearPart;
 use super::executor::{ExecutorError, FeExecutor};
 use crate::bundle::Bundle;
 
 /// Calibrates the linear part of the extension calibrated in `ext` on runs
 /// `runs` (weights `n_eff`): a Levenberg–Marquardt search of `local / 2` FE
-/// runs from the extension's estimate with its onset at the top of its
-/// prior. None when the extension has no linear part or no estimate.
-/// `progress` hears the FE points the search has spent.
+/// runs from the better of two starts, both with the onset at the top of its
+/// prior: the extension's estimate, and the baseline's estimate `base`
+/// (unit cube) with the linear parameters where they make the baseline
+/// ([`nested_start`]), so that the linear part is a true rival of the
+/// baseline too (from the extension's estimate alone it ended 6 and 93 nats
+/// above the baseline on two null campaigns). None when the extension has
+/// no linear part or no estimate. `progress` hears the FE points spent.
+#[allow(clippy::too_many_arguments)] // each a different input of one calibration
 pub fn calibrate_linear_part(
     bundle: &Bundle,
     ext: &Calibration,
+    base: &[f64],
     runs: &[usize],
     n_eff: &[f64],
     budget: &Budget,
@@ -33,14 +40,65 @@ pub fn calibrate_linear_part(
     let linear: Vec<usize> =
         (0..n_base).chain(part.linear.iter().filter_map(|n| index(n))).collect();
     let own = ext.own_parameters();
-    let mut start = ext.points[best].u.clone();
-    start[onset] = 1.0;
+    let mut from_ext = ext.points[best].u.clone();
+    from_ext[onset] = 1.0;
+    let nested = nested_start(ext, &part, base, &from_ext);
     let mut twin = ext.restarted(linear.clone());
     let ev = ext.evaluation(bundle, runs);
+    twin.points = evaluate_points(&ev, &[from_ext.clone(), nested], exec)?;
+    progress(twin.points.len());
+    let start = twin.best(n_eff).map_or(from_ext, |k| twin.points[k].u.clone());
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
+    let spent = twin.points.len();
     let local = budget.local / 2;
     let (_, gn) =
-        search.levenberg_marquardt(&mut twin, Scale::Fine, start, &linear, local, progress)?;
+        search.levenberg_marquardt(&mut twin, Scale::Fine, start, &linear, local, &mut |d| {
+            progress(d + spent)
+        })?;
     twin.gauss_newton = gn;
     Ok(Some(twin))
+}
+
+/// `from` (an extension's point with its onset beyond reach) with the
+/// baseline's parameters at the baseline's estimate `base` and the linear
+/// part's own at their [`LinearPart::nesting`] values: the baseline, seen
+/// through the extension.
+pub fn nested_start(ext: &Calibration, part: &LinearPart, base: &[f64], from: &[f64]) -> Vec<f64> {
+    let mut u = from.to_vec();
+    u[..base.len()].copy_from_slice(base);
+    for (name, value) in part.linear.iter().zip(part.nesting) {
+        if let Some(i) = ext.priors.iter().position(|p| p.name == *name) {
+            u[i] = ext.priors[i].unit(*value).clamp(0.0, 1.0);
+        }
+    }
+    u
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::cause::{baseline_priors, Cause};
+
+    #[test]
+    fn the_nested_start_is_the_baseline_seen_through_the_extension() {
+        let c = Cause::ConnectionHysteresis;
+        let priors = c.priors_on(&baseline_priors(false));
+        let ext = Calibration {
+            cause: c,
+            priors: priors.clone(),
+            free: vec![],
+            points: vec![],
+            demand: None,
+            gauss_newton: None,
+            committed_share: 0.0,
+        };
+        let part = c.linear_part().unwrap();
+        let from = vec![0.9; priors.len()];
+        let u = nested_start(&ext, &part, &[0.2, 0.3], &from);
+        let k = priors.iter().position(|p| p.name == "conn_stiffness_factor").unwrap();
+        assert_eq!(&u[..2], &[0.2, 0.3]);
+        assert!((priors[k].at(u[k]) - 1.0).abs() < 1e-12);
+        let others = (2..priors.len()).filter(|i| *i != k);
+        assert!(others.map(|i| u[i]).all(|v| v == 0.9));
+    }
 }

@@ -325,11 +325,17 @@ fn calibrate_variants(
             &mut |d, n| progress(&stage, d, n),
         )?;
         let stage = format!("linear part of {}", c.as_str());
-        let planned = opts.budget.local / 2;
-        let part =
-            calibrate_linear_part(b, &cal, cal_runs, n_eff0, &opts.budget, exec, &mut |d| {
-                progress(&stage, d, planned)
-            })?;
+        let planned = opts.budget.local / 2 + 2;
+        let part = calibrate_linear_part(
+            b,
+            &cal,
+            &base_u,
+            cal_runs,
+            n_eff0,
+            &opts.budget,
+            exec,
+            &mut |d| progress(&stage, d, planned),
+        )?;
         v.cals.push(cal);
         v.linear_parts.push(part);
     }
