@@ -18,7 +18,7 @@ use super::fit::{
 use super::linear_part::calibrate_linear_part;
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use super::posterior::VariationalPosterior;
-use super::posterior_check::checked_posterior;
+use super::posterior_check::{checked_posterior, rounds as check_rounds};
 use super::refine::{planned_runs, refine, refine_walks, twin_walks};
 use crate::bundle::{Bundle, Direction, RunRole};
 use stats::gp::Gp;
@@ -255,8 +255,8 @@ pub fn diagnose_with(
     let pick = if confirmed(&results, by_mdl) { by_mdl } else { 0 };
     results[pick].selected = true;
     progress("posterior (BBVI, checked by FE runs)", 0, 1);
-    let seed = opts.budget.seed;
-    let post = checked_posterior(&mut v.cals[pick], b, &cal_runs, &n_eff, seed, exec)?;
+    let check = (opts.budget.seed, check_rounds(campaign_work(b, &cal_runs)));
+    let post = checked_posterior(&mut v.cals[pick], (b, &cal_runs), &n_eff, check, exec)?;
     results[pick].fe_points += post.as_ref().ok().and_then(|p| p.check).map_or(0, |c| c.fe_points);
     results[pick].posterior = Some(post);
     progress("posterior (BBVI, checked by FE runs)", 1, 1);

@@ -5,8 +5,9 @@
 //! have. So the FE model runs at q's mean and a few of its draws; where the
 //! emulated excess −log L misses the FE's by more than [`TOL_NATS`], those
 //! runs join the calibration's points (and so the GP's training set) and
-//! BBVI runs again, at most [`ROUNDS`] times. The posterior reported is the
-//! last one checked, with the gap measured at its own probes.
+//! BBVI runs again, at most [`ROUNDS`] times ([`LARGE_ROUNDS`] in a large
+//! campaign). The posterior reported is the last one checked, with the gap
+//! measured at its own probes.
 
 use super::calibrate::{evaluate_points, Calibration};
 use super::executor::{ExecutorError, FeExecutor};
@@ -15,23 +16,37 @@ use crate::bundle::Bundle;
 
 /// Rounds of FE checks (each [`super::posterior::PROBES`] FE points).
 pub const ROUNDS: usize = 3;
+/// Rounds of FE checks in a large campaign ([`super::campaign_size`]),
+/// whose FE runs are the slowest: on a 6 m x 4.8 m double-layer campaign
+/// with three 30 s runs at 200 Hz, three rounds took 54 of its 610 s and
+/// each ended 98 to 168 nats off.
+pub const LARGE_ROUNDS: usize = 1;
+
+/// Rounds of FE checks of a campaign of [`super::campaign_size::campaign_work`] `work`.
+pub fn rounds(work: f64) -> usize {
+    if super::campaign_size::is_large(work) {
+        LARGE_ROUNDS
+    } else {
+        ROUNDS
+    }
+}
 /// Largest |FE − emulated| excess −log L at a probe for the emulator to
 /// stand (nats): e⁵ ≈ 150 in density.
 pub const TOL_NATS: f64 = 5.0;
 
 /// The posterior of `cal` under weights `n_eff`, its emulator checked by
-/// FE runs of `runs` of `bundle` through `exec` (which join `cal`'s points).
+/// FE runs of `runs` of `bundle` through `exec` (which join `cal`'s points)
+/// in up to `rounds` rounds.
 pub fn checked_posterior(
     cal: &mut Calibration,
-    bundle: &Bundle,
-    runs: &[usize],
+    (bundle, runs): (&Bundle, &[usize]),
     n_eff: &[f64],
-    seed: u64,
+    (seed, rounds): (u64, usize),
     exec: &mut dyn FeExecutor,
 ) -> Result<Result<VariationalPosterior, String>, ExecutorError> {
     let mut spent = 0;
     let mut last = None;
-    for round in 0..ROUNDS {
+    for round in 0..rounds {
         let mut post = match variational_posterior(cal, n_eff, seed + round as u64) {
             Ok(p) => p,
             Err(why) => return Ok(last.ok_or(why)),
@@ -64,6 +79,12 @@ pub fn probe_gap(fe_excess: &[f64], emulated: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_large_campaign_checks_once() {
+        assert_eq!(rounds(1e5), ROUNDS);
+        assert_eq!(rounds(1e7), LARGE_ROUNDS);
+    }
 
     #[test]
     fn gap_is_the_largest_capped_difference() {
