@@ -34,46 +34,35 @@ pub fn seed_section_start(cal: &Calibration, n_eff: &[f64]) -> Option<Vec<f64>> 
     Some(u)
 }
 
-/// Runs a Levenberg–Marquardt search of `budget.local` FE runs over every
-/// parameter of `cal` from [`seed_section_start`] (when there is one) and
-/// keeps its points; its
-/// Gauss–Newton matrix replaces the calibration's when it ended below the
-/// best point before it. Returns whether it did.
+/// Runs a Levenberg–Marquardt search of `budget.local` FE runs of `runs` of
+/// `bundle` over every parameter of `cal` from `start` ([`seed_section_start`])
+/// and keeps its points; its Gauss–Newton matrix replaces the calibration's
+/// when it ended below the best point before it. `progress` hears the FE
+/// points the search has spent.
 pub fn search_seed_section(
-    bundle: &Bundle,
     cal: &mut Calibration,
-    runs: &[usize],
+    start: Vec<f64>,
+    (bundle, runs): (&Bundle, &[usize]),
     n_eff: &[f64],
     budget: &Budget,
     exec: &mut dyn FeExecutor,
     progress: &mut dyn FnMut(usize),
-) -> Result<bool, ExecutorError> {
-    let (Some(start), Some(i)) = (seed_section_start(cal, n_eff), beams_index(cal)) else {
-        return Ok(false);
-    };
+) -> Result<(), ExecutorError> {
     let before = cal.best(n_eff).map_or(f64::INFINITY, |k| cal.objective(n_eff)[k]);
     let all: Vec<usize> = (0..cal.priors.len()).collect();
     let mut found = cal.restarted(all.clone());
     let ev = cal.evaluation(bundle, runs);
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &all };
-    let from_u = start[i];
     let (end, gn) =
         search.levenberg_marquardt(&mut found, Scale::Fine, start, &all, budget.local, progress)?;
     let after = point_value(&found, &end, n_eff);
-    let better = after < before && gn.is_some();
-    tracing::debug!(
-        before,
-        after,
-        from_u,
-        end_u = end[i],
-        better,
-        "channels at the seed's section"
-    );
+    let end_beams = beams_index(cal).map(|i| end[i]);
+    tracing::debug!(before, after, ?end_beams, "channels at the seed's section");
     cal.points.append(&mut found.points);
-    if better {
+    if after < before && gn.is_some() {
         cal.gauss_newton = gn;
     }
-    Ok(better)
+    Ok(())
 }
 
 #[cfg(test)]

@@ -45,7 +45,8 @@ pub fn calibrate_linear_part(
     let nested = nested_start(ext, &part, base, &from_ext);
     let mut twin = ext.restarted(linear.clone());
     let ev = ext.evaluation(bundle, runs);
-    twin.points = evaluate_points(&ev, &[from_ext.clone(), nested], exec)?;
+    let starts: [Vec<f64>; STARTS] = [from_ext.clone(), nested];
+    twin.points = evaluate_points(&ev, &starts, exec)?;
     progress(twin.points.len());
     let start = twin.best(n_eff).map_or(from_ext, |k| twin.points[k].u.clone());
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
@@ -57,6 +58,14 @@ pub fn calibrate_linear_part(
         })?;
     twin.gauss_newton = gn;
     Ok(Some(twin))
+}
+
+/// Starts the linear part's search is chosen from (one FE run each).
+const STARTS: usize = 2;
+
+/// FE runs the linear part plans under `budget`: its starts and its search.
+pub fn planned_runs(budget: &Budget) -> usize {
+    STARTS + budget.local / 2
 }
 
 /// `from` (an extension's point with its onset beyond reach) with the

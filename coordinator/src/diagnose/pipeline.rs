@@ -15,7 +15,7 @@ use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
 use super::fit::{
     effective_sizes, mean_excess_nrmse, mean_nrmse, ChannelFit, Evaluation, Simulated,
 };
-use super::linear_part::calibrate_linear_part;
+use super::linear_part::{self, calibrate_linear_part};
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use super::posterior::VariationalPosterior;
 use super::posterior_check::{checked_posterior, rounds as check_rounds};
@@ -325,7 +325,7 @@ fn calibrate_variants(
             &mut |d, n| progress(&stage, d, n),
         )?;
         let stage = format!("linear part of {}", c.as_str());
-        let planned = opts.budget.local / 2 + 2;
+        let planned = linear_part::planned_runs(&opts.budget);
         let part = calibrate_linear_part(
             b,
             &cal,
@@ -431,11 +431,13 @@ fn calibrate_baseline(
             exec,
             &mut |d, n| progress(stage, d, n),
         )?;
-        if channels && seed_section_start(&cal, n_eff0).is_some() {
+        let second = if channels { seed_section_start(&cal, n_eff0) } else { None };
+        if let Some(start) = second {
             let (done, planned) = (cal.points.len(), cal.points.len() + opts.budget.local);
             let stage = "calibrating none (baseline, channels at the seed's section)";
             progress(stage, done, planned);
-            search_seed_section(b, &mut cal, cal_runs, n_eff0, &opts.budget, exec, &mut |d| {
+            let on = (b, cal_runs);
+            search_seed_section(&mut cal, start, on, n_eff0, &opts.budget, exec, &mut |d| {
                 progress(stage, done + d, planned)
             })?;
         }

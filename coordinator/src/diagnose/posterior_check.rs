@@ -21,6 +21,9 @@ pub const ROUNDS: usize = 3;
 /// with three 30 s runs at 200 Hz, three rounds took 54 of its 610 s and
 /// each ended 98 to 168 nats off.
 pub const LARGE_ROUNDS: usize = 1;
+/// Largest |FE − emulated| excess −log L at a probe for the emulator to
+/// stand (nats): e⁵ ≈ 150 in density.
+pub const TOL_NATS: f64 = 5.0;
 
 /// Rounds of FE checks of a campaign of [`super::campaign_size::campaign_work`] `work`.
 pub fn rounds(work: f64) -> usize {
@@ -30,9 +33,6 @@ pub fn rounds(work: f64) -> usize {
         ROUNDS
     }
 }
-/// Largest |FE − emulated| excess −log L at a probe for the emulator to
-/// stand (nats): e⁵ ≈ 150 in density.
-pub const TOL_NATS: f64 = 5.0;
 
 /// The posterior of `cal` under weights `n_eff`, its emulator checked by
 /// FE runs of `runs` of `bundle` through `exec` (which join `cal`'s points)
