@@ -188,3 +188,28 @@ fn the_committed_share_reaches_the_farm() {
     let out = farm.simulate(&ev, std::slice::from_ref(&theta)).unwrap();
     assert_eq!(out[0].as_ref().unwrap(), &ev.simulate(&theta).unwrap());
 }
+
+/// A calibration that frees the damping's mass share sends it to the farm's
+/// workers: the farm gives what `Evaluation::simulate` gives, and another
+/// share gives other histories.
+#[test]
+fn the_mass_share_reaches_the_farm() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = tiny_bundle(dir.path());
+    let mut priors = Cause::None.priors();
+    priors.push(crate::diagnose::damping_share::MASS_SHARE);
+    let runs = [0usize];
+    let ev = Evaluation::baseline(&b, &priors, &runs);
+    let at = |share: f64| -> Vec<f64> {
+        let mut theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
+        *theta.last_mut().unwrap() = share;
+        theta
+    };
+    let (heavy, pair) = (at(0.9), at(0.5));
+    assert!(ev.assignments(&heavy).contains(&("damping_mass_share", 0.9)));
+    assert_eq!(ev.setup(&heavy).unwrap().2.damping_mass_share, 0.9);
+    let mut farm = in_process(None);
+    let out = farm.simulate(&ev, &[heavy.clone(), pair]).unwrap();
+    assert_eq!(out[0].as_ref().unwrap(), &ev.simulate(&heavy).unwrap());
+    assert_ne!(out[0], out[1]);
+}

@@ -68,6 +68,15 @@ pub const DAMPING_RATIO: &str = "damping_ratio";
 /// The solver parameter that puts the flagged springs' Rayleigh stiffness
 /// term on their committed tangent.
 pub const DAMPING_COMMITTED_SHARE: &str = worker::ceiling::DAMPING_COMMITTED_SHARE;
+/// The calibrated parameter (and solver parameter) that sets the Rayleigh
+/// damping's share on the mass term ([`super::damping_share`]).
+pub const DAMPING_MASS_SHARE: &str = worker::ceiling::DAMPING_MASS_SHARE;
+
+/// The solver option a calibrated parameter `name` sets (the damping's
+/// ratio and share on the mass term), if it sets one.
+fn solver_parameter(name: &str) -> Option<&'static str> {
+    [DAMPING_RATIO, DAMPING_MASS_SHARE].into_iter().find(|n| *n == name)
+}
 
 /// One simulated run at a parameter point: (sensor id, samples) in bundle units.
 pub type Simulated = crate::specimen::SensorSeries;
@@ -105,7 +114,8 @@ impl Evaluation<'_> {
     }
 
     /// The FE parameter values `theta` (prior order) sets, in the order
-    /// they are set (`damping_ratio` included, under that name).
+    /// they are set (`damping_ratio` and `damping_mass_share` included,
+    /// under those names).
     pub fn assignments(&self, theta: &[f64]) -> Vec<(&'static str, f64)> {
         let named: Vec<(&str, f64)> =
             self.priors.iter().map(|p| p.name).zip(theta.iter().copied()).collect();
@@ -117,8 +127,8 @@ impl Evaluation<'_> {
         });
         let mut out = Vec::new();
         for (p, v) in self.priors.iter().zip(theta) {
-            if p.name == DAMPING_RATIO {
-                out.push((DAMPING_RATIO, *v));
+            if let Some(name) = solver_parameter(p.name) {
+                out.push((name, *v));
             } else {
                 out.extend(model_parameters(p, *v, &named, &demand));
             }
@@ -142,6 +152,8 @@ impl Evaluation<'_> {
                 opts.damping_ratio = value;
             } else if name == DAMPING_COMMITTED_SHARE {
                 opts.damping_committed_share = value;
+            } else if name == DAMPING_MASS_SHARE {
+                opts.damping_mass_share = value;
             } else {
                 params.set(name, value).map_err(|e| e.to_string())?;
             }

@@ -11,6 +11,7 @@ pub mod cause;
 pub mod channel_start;
 pub mod damping_form;
 pub mod damping_path;
+pub mod damping_share;
 pub mod ensemble;
 pub mod envelope;
 pub mod evidence;
