@@ -1,14 +1,17 @@
 //! The diagnosis of a bundle, end to end: split the runs, calibrate the
 //! baseline and every extension on the calibration runs, weigh them by MDL,
 //! pick the cause (`none` when no extension earns its complexity), search
-//! the named extension further ([`super::refine`]), and measure each
-//! calibrated variant on the validation runs.
+//! the named extension further ([`super::refine`]), free the damping's
+//! split between mass and stiffness for it and the baseline
+//! ([`super::damping_share`]), and measure each calibrated variant on the
+//! validation runs.
 
 use super::calibrate::{calibrate, evaluate_points, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
+use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
 use super::ensemble;
 use super::evidence::pga_g;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
@@ -253,6 +256,11 @@ pub fn diagnose_with(
     }
     let by_mdl = select(&results, MISFIT_NATS);
     let pick = if confirmed(&results, by_mdl) { by_mdl } else { 0 };
+    if pick != 0 && searches_share(campaign_work(b, &cal_runs)) {
+        let after = After { b, runs, n_eff: (&n_eff0, &n_eff), held: &held, opts };
+        after.damping_share(&mut v, pick, exec, progress, &mut results)?;
+        excess_validation_errors(b, &val_runs, &mut results);
+    }
     results[pick].selected = true;
     progress("posterior (BBVI, checked by FE runs)", 0, 1);
     let check = (opts.budget.seed, check_rounds(campaign_work(b, &cal_runs)));
@@ -495,7 +503,7 @@ fn assess_variants(
     progress: &mut dyn FnMut(&str, usize, usize),
 ) -> Result<(Vec<CandidateResult>, Held), DiagnoseError> {
     let mut results = Vec::new();
-    let mut held = Held { geometric: (0.0, 0.0), sd: vec![] };
+    let mut held = Held::none();
     for (k, (cal, part)) in v.cals.iter().zip(&v.linear_parts).enumerate() {
         progress("validating", k, v.cals.len());
         let mut r = assess(b, cal, n_eff, runs, &held, exec)?;
@@ -667,6 +675,44 @@ impl After<'_> {
         result.fe_points += spent;
         Ok(())
     }
+
+    /// Frees the damping's share on the mass term
+    /// ([`super::damping_share`]) for the baseline and the named extension
+    /// `pick`, searched as [`calibrate_share_twin`]: a twin that fits the
+    /// calibration runs better by more than [`twin_wins`]' allowance
+    /// replaces its model in `v` and its assessment in `results`; either
+    /// way its FE points are counted there.
+    fn damping_share(
+        &self,
+        v: &mut Variants,
+        pick: usize,
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+        results: &mut [CandidateResult],
+    ) -> Result<(), DiagnoseError> {
+        let (b, runs, n_eff0, budget) = (self.b, self.runs.0, self.n_eff.0, &self.opts.budget);
+        for k in [0, pick] {
+            let stage = format!("{} with the damping's mass share", v.cals[k].cause.as_str());
+            let mut report = |d| progress(&stage, d, share_runs(budget));
+            let Some(twin) =
+                calibrate_share_twin(b, &v.cals[k], runs, n_eff0, budget, exec, &mut report)?
+            else {
+                continue;
+            };
+            let wins = twin_wins(&v.cals[k], &twin, n_eff0);
+            let spent = results[k].fe_points + twin.fe_points();
+            tracing::debug!(cause = v.cals[k].cause.as_str(), wins, "mass-share twin");
+            if wins {
+                v.cals[k] = twin;
+                results[k] = match k {
+                    0 => assess(b, &v.cals[0], self.n_eff.1, self.runs, &Held::none(), exec)?,
+                    _ => self.assess(&v.cals[k], v.linear_parts[k].as_ref(), exec)?,
+                };
+            }
+            results[k].fe_points = spent;
+        }
+        Ok(())
+    }
 }
 
 /// Each candidate's validation error in excess of the sensor noise (each
@@ -772,6 +818,11 @@ struct Held {
 }
 
 impl Held {
+    /// What the baseline's own assessment holds: nothing.
+    fn none() -> Self {
+        Held { geometric: (0.0, 0.0), sd: vec![] }
+    }
+
     /// What the baseline's assessment `r` holds: its geometric MDL term with
     /// that term's standard error, and its estimates' spreads (unit cube).
     fn from_baseline(r: &CandidateResult) -> Self {
