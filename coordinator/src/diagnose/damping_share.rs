@@ -25,6 +25,10 @@ use super::executor::{ExecutorError, FeExecutor};
 use super::fit::{Evaluation, DAMPING_MASS_SHARE};
 use crate::bundle::Bundle;
 
+/// The share of the seed's Rayleigh pair on the first x and y modes (the
+/// solver's default): where each twin's search starts.
+pub const SEED_PAIR_SHARE: f64 = 0.5;
+
 /// The damping's share on the mass term (Rayleigh α and β scaled by 2·share
 /// and 2·(1 − share); 0.5: the seed's pair on the first x and y modes,
 /// 1: mass-proportional, 0: stiffness-proportional).
@@ -34,7 +38,7 @@ pub const MASS_SHARE: Prior = Prior {
     low: 0.0,
     high: 1.0,
     log: false,
-    reference: Some(0.5),
+    reference: Some(SEED_PAIR_SHARE),
 };
 
 /// The local searches of a twin: this many times the budget's `local` FE
@@ -80,7 +84,7 @@ pub fn with_mass_share(cal: &Calibration) -> Calibration {
 /// reference (the same model).
 pub fn share_point(cal: &Calibration, u: &[f64]) -> Vec<f64> {
     let mut out = u.to_vec();
-    out.insert(cal.n_base(), MASS_SHARE.unit(0.5));
+    out.insert(cal.n_base(), MASS_SHARE.unit(SEED_PAIR_SHARE));
     out
 }
 
@@ -104,8 +108,8 @@ pub fn calibrate_share_twin(
     let Some(best) = cal.best(n_eff) else { return Ok(None) };
     let mut twin = with_mass_share(cal);
     let start = share_point(cal, &cal.points[best].u);
-    let all: Vec<usize> = (0..twin.priors.len()).collect();
-    let own: Vec<usize> = twin.own_parameters();
+    let all = twin.free.clone();
+    let own = twin.own_parameters();
     let priors = twin.priors.clone();
     let ev = Evaluation { priors: &priors, ..cal.evaluation(bundle, runs) };
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };
@@ -167,6 +171,7 @@ mod tests {
             assert_eq!(u.len(), twin.priors.len());
             // The share at 0.5 exactly: the solver's default pair, bit for bit.
             assert_eq!(twin.priors[cal.n_base()].at(u[cal.n_base()]), 0.5);
+            assert_eq!(twin.free, (0..twin.priors.len()).collect::<Vec<_>>());
         }
     }
 }

@@ -258,8 +258,9 @@ pub fn diagnose_with(
     let pick = if confirmed(&results, by_mdl) { by_mdl } else { 0 };
     if pick != 0 && searches_share(campaign_work(b, &cal_runs)) {
         let after = After { b, runs, n_eff: (&n_eff0, &n_eff), held: &held, opts };
-        after.damping_share(&mut v, pick, exec, progress, &mut results)?;
-        excess_validation_errors(b, &val_runs, &mut results);
+        if after.damping_share(&mut v, pick, exec, progress, &mut results)? {
+            excess_validation_errors(b, &val_runs, &mut results);
+        }
     }
     results[pick].selected = true;
     progress("posterior (BBVI, checked by FE runs)", 0, 1);
@@ -681,7 +682,7 @@ impl After<'_> {
     /// `pick`, searched as [`calibrate_share_twin`]: a twin that fits the
     /// calibration runs better by more than [`twin_wins`]' allowance
     /// replaces its model in `v` and its assessment in `results`; either
-    /// way its FE points are counted there.
+    /// way its FE points are counted there. Returns whether any twin did.
     fn damping_share(
         &self,
         v: &mut Variants,
@@ -689,8 +690,9 @@ impl After<'_> {
         exec: &mut dyn FeExecutor,
         progress: &mut dyn FnMut(&str, usize, usize),
         results: &mut [CandidateResult],
-    ) -> Result<(), DiagnoseError> {
+    ) -> Result<bool, DiagnoseError> {
         let (b, runs, n_eff0, budget) = (self.b, self.runs.0, self.n_eff.0, &self.opts.budget);
+        let mut replaced = false;
         for k in [0, pick] {
             let stage = format!("{} with the damping's mass share", v.cals[k].cause.as_str());
             let mut report = |d| progress(&stage, d, share_runs(budget));
@@ -703,6 +705,7 @@ impl After<'_> {
             let spent = results[k].fe_points + twin.fe_points();
             tracing::debug!(cause = v.cals[k].cause.as_str(), wins, "mass-share twin");
             if wins {
+                replaced = true;
                 v.cals[k] = twin;
                 results[k] = match k {
                     0 => assess(b, &v.cals[0], self.n_eff.1, self.runs, &Held::none(), exec)?,
@@ -711,7 +714,7 @@ impl After<'_> {
             }
             results[k].fe_points = spent;
         }
-        Ok(())
+        Ok(replaced)
     }
 }
 
