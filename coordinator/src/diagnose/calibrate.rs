@@ -11,6 +11,7 @@ use super::damping_path::{DampingPath, DampingPathUse};
 use super::envelope::envelope_neg_log_lik;
 use super::executor::{ExecutorError, FeExecutor, Sims};
 use super::fit::{neg_log_lik, ChannelFit, Evaluation};
+use super::modal_fit::ModalFit;
 use crate::bundle::Bundle;
 use crate::design::draw;
 use crate::study::DesignMethod;
@@ -72,13 +73,18 @@ pub struct Point {
     pub fit: Result<Vec<ChannelFit>, String>,
     /// −log L of the windowed RMS misfits (+∞ when the simulation failed).
     pub coarse: f64,
+    /// The fit of the model's frequencies to `modal.csv` (None: the bundle
+    /// has none, or the simulation failed).
+    pub modal: Option<ModalFit>,
 }
 
 impl Point {
-    /// −log L of the time histories under weights `n_eff` (+∞ when the
+    /// −log L of the time histories under weights `n_eff`, and of the
+    /// identified frequencies when the bundle has them (+∞ when the
     /// simulation failed).
     pub fn neg_log_lik(&self, n_eff: &[f64]) -> f64 {
-        self.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff))
+        let modal = self.modal.as_ref().map_or(0.0, |m| m.neg_log_lik);
+        self.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff) + modal)
     }
 }
 
@@ -221,7 +227,7 @@ pub fn evaluate_points(
 
 /// A point that failed to simulate.
 fn failed(u: &[f64], why: String) -> Point {
-    Point { u: u.to_vec(), fit: Err(why), coarse: f64::INFINITY }
+    Point { u: u.to_vec(), fit: Err(why), coarse: f64::INFINITY, modal: None }
 }
 
 /// As [`evaluate_points`], keeping each point's time-history and windowed
@@ -237,16 +243,25 @@ pub(super) fn evaluate_full(
     Ok(us.iter().zip(sims).map(|(u, s)| judge(ev, u, s)).collect())
 }
 
-/// The point, fits and residuals of one simulated point.
+/// The point, fits and residuals of one simulated point. The time-history
+/// residuals end with the modal frequencies' whitened ones when the bundle
+/// has `modal.csv` ([`super::modal_fit`]).
 fn judge(ev: &Evaluation<'_>, u: &[f64], sims: Sims) -> Full {
+    let theta: Vec<f64> = u.iter().zip(ev.priors).map(|(u, p)| p.at(*u)).collect();
+    let modal = match sims.as_ref().ok().and_then(|_| ev.modal_fit(&theta)).transpose() {
+        Ok(m) => m,
+        Err(e) => return (failed(u, e), None),
+    };
     match sims {
         Ok(sims) => {
             let (fits, mut residuals) = ev.fits(&sims);
             // Missing readings add nothing to a Jacobian.
             residuals.iter_mut().flatten().filter(|r| !r.is_finite()).for_each(|r| *r = 0.0);
+            residuals.extend(modal.as_ref().map(ModalFit::whitened));
             let env = ev.envelope_misfits(&sims);
             let coarse = envelope_neg_log_lik(&env);
-            (Point { u: u.to_vec(), fit: Ok(fits), coarse }, Some((residuals, env)))
+            let point = Point { u: u.to_vec(), fit: Ok(fits), coarse, modal };
+            (point, Some((residuals, env)))
         }
         Err(e) => (failed(u, e), None),
     }

@@ -83,6 +83,7 @@ mod tests {
                 u,
                 fit: Ok(vec![ChannelFit::with_neg_log_lik(10.0)]),
                 coarse: 0.0,
+                modal: None,
             }],
             demand: None,
             gauss_newton: None,

@@ -141,6 +141,7 @@ mod tests {
                 Ok(vec![ChannelFit::with_neg_log_lik(*nll)])
             },
             coarse: 0.0,
+            modal: None,
         };
         Calibration {
             cause,

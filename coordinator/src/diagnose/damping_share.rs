@@ -142,6 +142,7 @@ mod tests {
                 u: vec![0.25; priors.len()],
                 fit: Ok(vec![ChannelFit::with_neg_log_lik(-3.0)]),
                 coarse: 0.0,
+                modal: None,
             }],
             demand: None,
             gauss_newton: None,

@@ -132,11 +132,13 @@ impl Scale {
         }
     }
 
-    /// The weight n_c of channel `c` with residuals `r`: its `n_eff` (0
-    /// when missing) on the time histories, its windows on the misfits.
+    /// The weight n_c of channel `c` with residuals `r`: its `n_eff` on the
+    /// time histories, its windows on the misfits. The time histories'
+    /// residuals past the channels are the modal frequencies' whitened ones
+    /// (Gaussian: weight 1 each, so n_c = their SSR).
     fn channel_weight(self, c: usize, r: &[f64], n_eff: &[f64]) -> f64 {
         match self {
-            Scale::Fine => n_eff.get(c).copied().unwrap_or(0.0),
+            Scale::Fine => n_eff.get(c).copied().unwrap_or_else(|| r.iter().map(|x| x * x).sum()),
             Scale::Coarse => r.len() as f64,
         }
     }
@@ -228,7 +230,8 @@ fn jacobian_columns(
 
 /// The Gauss–Newton system (JᵀWJ, JᵀWr) of −log L = Σ n_c/2 · log SSR_c at
 /// residuals `r0` (channels) with Jacobian columns `cols` (active)(channels),
-/// W = n_c/SSR_c per channel ([`Scale::channel_weight`]; SSR at least 1e-300).
+/// W = n_c/SSR_c per channel ([`Scale::channel_weight`]; SSR at least 1e-300;
+/// W = 1 on the whitened modal residuals).
 fn normal_equations(
     r0: &Residuals,
     cols: &[Residuals],
@@ -241,8 +244,7 @@ fn normal_equations(
     let mut jt_r = DVector::zeros(k);
     let mut jt_j = DMatrix::zeros(k, k);
     for (c, r) in r0.iter().enumerate() {
-        let n_c = scale.channel_weight(c, r, n_eff);
-        let w = n_c / ssr[c];
+        let w = scale.channel_weight(c, r, n_eff) / ssr[c];
         for a in 0..k {
             jt_r[a] += w * cols[a][c].iter().zip(r).map(|(x, y)| x * y).sum::<f64>();
             for b in a..k {

@@ -23,6 +23,7 @@ pub mod levenberg;
 pub mod linear_part;
 pub mod loop_damping;
 pub mod mdl;
+pub mod modal_fit;
 pub mod noise_floor;
 pub mod pipeline;
 pub mod posterior;
@@ -44,6 +45,6 @@ pub mod verdict_notes;
 pub(crate) mod testkit;
 
 #[cfg(test)]
-mod farm_executor_tests;
+pub(crate) mod farm_executor_tests;
 #[cfg(test)]
 mod fit_tests;

@@ -20,6 +20,7 @@ use super::fit::{
 };
 use super::linear_part::{self, calibrate_linear_part};
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
+use super::modal_fit::ModalFit;
 use super::posterior::VariationalPosterior;
 use super::posterior_check::{checked_posterior, rounds as check_rounds};
 use super::refine::{planned_runs, refine, refine_walks, twin_walks};
@@ -95,6 +96,9 @@ pub struct CandidateResult {
     /// Share of its damped springs' Rayleigh stiffness term on their
     /// committed tangent (0: the initial stiffness; [`super::damping_form`]).
     pub committed_share: f64,
+    /// Its frequencies at the estimate against `modal.csv` (None: the
+    /// bundle has none).
+    pub modal: Option<ModalFit>,
     /// Whether it was selected.
     pub selected: bool,
     /// The variational posterior (selected variant only), or why it could
@@ -122,6 +126,7 @@ impl CandidateResult {
             prediction_members: 0,
             calibration_sims: vec![],
             committed_share: 0.0,
+            modal: None,
             selected: false,
             posterior: None,
         }
@@ -859,6 +864,7 @@ fn assess(
     let u = &cal.points[best].u;
     let sd = estimate_sd(cal, gp.as_ref(), u, held);
     out.estimates = estimates(&cal.priors, u, &sd);
+    out.modal.clone_from(&cal.points[best].modal);
     if let Ok(ch) = &cal.points[best].fit {
         out.calibration_error = mean_nrmse(ch);
         let own: Vec<f64> = ch.iter().map(|c| c.noise_var).collect();

@@ -337,6 +337,7 @@ mod tests {
             u: u.clone(),
             fit: Ok(vec![ChannelFit::with_neg_log_lik(nll(u))]),
             coarse: 0.0,
+            modal: None,
         };
         Calibration {
             cause: Cause::None,

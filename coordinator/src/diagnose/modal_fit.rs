@@ -1,0 +1,259 @@
+//! The identified natural frequencies (`modal.csv`) in a calibration's
+//! likelihood. Mode k of the table is compared with the model's k-th lowest
+//! frequency at the parameter point (every spring at its initial tangent,
+//! as the model's own modal analysis has it). Each mode is Gaussian with
+//! the lab's one-sigma uncertainty plus one model-discrepancy variance
+//! common to the modes, estimated at each point (profiled, as the time
+//! histories' noise is): frequencies the model reproduces within the lab's
+//! uncertainty count in full, a systematic misfit no parameter removes
+//! counts as little as a misfit of one more channel.
+//! Units: Hz, Hz².
+
+use super::fit::Evaluation;
+use crate::bundle::ModalEntry;
+use fe::eigen::{modal_analysis, LanczosSettings};
+use fe::generator::generate;
+
+/// Highest mode number used: the model's lowest modes are the ones a
+/// shaking table identifies; higher entries of the table are left out.
+pub const MAX_MODE: u32 = 20;
+
+/// Least variance of a mode (Hz²): keeps −log L finite when the lab gives no
+/// uncertainty and the model matches to round-off.
+const FLOOR_HZ2: f64 = 1e-8;
+
+/// How the model's frequencies at one point meet the measured ones.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalFit {
+    /// Mode numbers used (1-based).
+    pub modes: Vec<u32>,
+    /// Measured frequencies (Hz).
+    pub measured_hz: Vec<f64>,
+    /// The model's frequencies of the same modes (Hz).
+    pub model_hz: Vec<f64>,
+    /// The lab's variances (Hz²; 0 when unknown).
+    pub lab_var_hz2: Vec<f64>,
+    /// The profiled discrepancy variance (Hz²).
+    pub discrepancy_var_hz2: f64,
+    /// −log L of the modes (½ log 2π dropped).
+    pub neg_log_lik: f64,
+}
+
+impl ModalFit {
+    /// Residuals over their standard deviations, (model − measured)/σ: the
+    /// rows a Gauss–Newton step fits with weight 1.
+    pub fn whitened(&self) -> Vec<f64> {
+        self.residuals_hz()
+            .iter()
+            .zip(&self.lab_var_hz2)
+            .map(|(r, v)| r / total_var(*v, self.discrepancy_var_hz2).sqrt())
+            .collect()
+    }
+
+    /// Model minus measured frequency of each mode (Hz).
+    pub fn residuals_hz(&self) -> Vec<f64> {
+        self.model_hz.iter().zip(&self.measured_hz).map(|(m, f)| m - f).collect()
+    }
+}
+
+/// The entries a calibration uses: modes 1 to [`MAX_MODE`].
+pub fn usable(entries: &[ModalEntry]) -> Vec<&ModalEntry> {
+    entries.iter().filter(|e| e.mode >= 1 && e.mode <= MAX_MODE).collect()
+}
+
+/// The fit of the model's frequencies `model_hz` (lowest first) to the
+/// usable `entries`; None when no entry is usable or the model has too few
+/// modes.
+pub fn modal_fit(entries: &[ModalEntry], model_hz: &[f64]) -> Option<ModalFit> {
+    let used = usable(entries);
+    if used.is_empty() || used.iter().any(|e| e.mode as usize > model_hz.len()) {
+        return None;
+    }
+    let modes: Vec<u32> = used.iter().map(|e| e.mode).collect();
+    let measured_hz: Vec<f64> = used.iter().map(|e| e.freq_hz).collect();
+    let model: Vec<f64> = used.iter().map(|e| model_hz[e.mode as usize - 1]).collect();
+    let lab: Vec<f64> = used.iter().map(|e| e.std_hz.map_or(0.0, |s| s * s)).collect();
+    let r2: Vec<f64> = model.iter().zip(&measured_hz).map(|(m, f)| (m - f).powi(2)).collect();
+    let s = profiled_discrepancy(&r2, &lab);
+    Some(ModalFit {
+        modes,
+        measured_hz,
+        model_hz: model,
+        neg_log_lik: neg_log_lik(&r2, &lab, s),
+        lab_var_hz2: lab,
+        discrepancy_var_hz2: s,
+    })
+}
+
+/// A mode's variance: the lab's plus the discrepancy, at least [`FLOOR_HZ2`].
+fn total_var(lab: f64, discrepancy: f64) -> f64 {
+    (lab + discrepancy).max(FLOOR_HZ2)
+}
+
+/// Σ ½ log(v_i + s) + r_i² / (2 (v_i + s)): −log L of squared residuals
+/// `r2` under lab variances `v` and discrepancy variance `s`.
+pub fn neg_log_lik(r2: &[f64], v: &[f64], s: f64) -> f64 {
+    r2.iter()
+        .zip(v)
+        .map(|(r2, v)| {
+            let t = total_var(*v, s);
+            0.5 * t.ln() + r2 / (2.0 * t)
+        })
+        .sum()
+}
+
+/// The discrepancy variance s ≥ 0 that minimises [`neg_log_lik`]: 0 when
+/// the residuals sit within the lab's uncertainty. Above 0 the profile may
+/// have several stationary points (unequal lab variances), so the best of
+/// 0 and a geometric grid up to the largest r² is refined by bisection on
+/// the derivative between its neighbours. With equal lab variances v it is
+/// max(0, mean r² − v).
+pub fn profiled_discrepancy(r2: &[f64], v: &[f64]) -> f64 {
+    let h = |s: f64| neg_log_lik(r2, v, s);
+    // 2 dh/ds.
+    let slope = |s: f64| -> f64 {
+        r2.iter()
+            .zip(v)
+            .map(|(r2, v)| {
+                let t = total_var(*v, s);
+                (t - r2) / (t * t)
+            })
+            .sum()
+    };
+    let top = r2.iter().copied().fold(0.0, f64::max);
+    if top <= FLOOR_HZ2 {
+        return 0.0;
+    }
+    const GRID: usize = 120;
+    let ratio = (top / FLOOR_HZ2).powf(1.0 / (GRID - 1) as f64);
+    let grid: Vec<f64> =
+        std::iter::once(0.0).chain((0..GRID).map(|k| FLOOR_HZ2 * ratio.powi(k as i32))).collect();
+    let k = (0..grid.len()).min_by(|a, b| h(grid[*a]).total_cmp(&h(grid[*b]))).unwrap_or(0);
+    let (mut lo, mut hi) = (grid[k.saturating_sub(1)], grid[(k + 1).min(grid.len() - 1)]);
+    if !(slope(lo) < 0.0 && slope(hi) > 0.0) {
+        return grid[k];
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if slope(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let s = 0.5 * (lo + hi);
+    if h(s) <= h(grid[k]) {
+        s
+    } else {
+        grid[k]
+    }
+}
+
+impl Evaluation<'_> {
+    /// The modal fit at `theta` (physical values in prior order): None when
+    /// the bundle has no usable `modal.csv`; an error when the model's
+    /// modal analysis fails.
+    pub fn modal_fit(&self, theta: &[f64]) -> Option<Result<ModalFit, String>> {
+        let entries = self.bundle.modal.as_deref()?;
+        let highest = usable(entries).iter().map(|e| e.mode).max()? as usize;
+        Some(self.model_frequencies(theta, highest).and_then(|f| {
+            modal_fit(entries, &f)
+                .ok_or_else(|| format!("modal analysis gave {} modes: expected {highest}", f.len()))
+        }))
+    }
+
+    /// The model's lowest `n` frequencies at `theta` (Hz).
+    fn model_frequencies(&self, theta: &[f64], n: usize) -> Result<Vec<f64>, String> {
+        let (spec, params, _) = self.setup(theta)?;
+        let model = generate(&spec, &params).map_err(|e| e.to_string())?;
+        let (_, modal) = modal_analysis(&model, n.max(2), &LanczosSettings::default())
+            .map_err(|e| format!("modal analysis: {e}"))?;
+        Ok(modal.freq_hz)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn entry(mode: u32, freq_hz: f64, std_hz: Option<f64>) -> ModalEntry {
+        ModalEntry { mode, freq_hz, std_hz }
+    }
+
+    #[test]
+    fn modes_meet_the_models_by_number() {
+        let entries = [entry(3, 9.0, Some(0.1)), entry(1, 7.0, None), entry(40, 30.0, None)];
+        let fit = modal_fit(&entries, &[7.2, 8.0, 9.1]).unwrap();
+        assert_eq!(fit.modes, [3, 1]);
+        assert_eq!(fit.model_hz, [9.1, 7.2]);
+        assert!((fit.residuals_hz()[1] - 0.2).abs() < 1e-12);
+        assert!(modal_fit(&entries, &[7.2, 8.0]).is_none(), "mode 3 missing from the model");
+        assert!(modal_fit(&[entry(40, 30.0, None)], &[7.2]).is_none(), "no usable mode");
+    }
+
+    #[test]
+    fn residuals_within_the_labs_uncertainty_count_in_full() {
+        let v = [0.04, 0.04];
+        let near = [0.01, 0.02];
+        assert_eq!(profiled_discrepancy(&near, &v), 0.0);
+        let far = [0.5, 0.7];
+        let s = profiled_discrepancy(&far, &v);
+        assert!((s - (0.6 - 0.04)).abs() < 1e-9, "equal lab variances: mean r² − v, got {s}");
+        let whitened =
+            modal_fit(&[entry(1, 10.0, Some(0.2)), entry(2, 12.0, Some(0.2))], &[10.1, 11.8])
+                .unwrap()
+                .whitened();
+        assert!((whitened[0] - 0.5).abs() < 1e-12 && (whitened[1] + 1.0).abs() < 1e-12);
+    }
+
+    /// On a synthetic bundle whose table holds the model's own frequencies
+    /// at one point, that point meets them with no discrepancy and another
+    /// perimeter stiffness misses them.
+    #[test]
+    fn the_models_own_frequencies_fit_at_their_point() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut b = crate::diagnose::farm_executor_tests::tiny_bundle(dir.path());
+        let priors = crate::diagnose::cause::Cause::None.priors();
+        let runs = [0usize];
+        let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
+        let own = Evaluation::baseline(&b, &priors, &runs).model_frequencies(&theta, 3).unwrap();
+        b.modal = Some((0..3).map(|k| entry(k as u32 + 1, own[k], Some(0.01))).collect());
+        let ev = Evaluation::baseline(&b, &priors, &runs);
+        let at = ev.modal_fit(&theta).unwrap().unwrap();
+        assert_eq!(at.discrepancy_var_hz2, 0.0);
+        assert!((at.neg_log_lik - 1.5 * 1e-4f64.ln()).abs() < 1e-6, "{}", at.neg_log_lik);
+        let mut stiffer = theta.clone();
+        stiffer[0] = priors[0].at(0.9);
+        let off = ev.modal_fit(&stiffer).unwrap().unwrap();
+        assert!(off.residuals_hz().iter().all(|r| *r > 0.0), "{:?}", off.residuals_hz());
+        assert!(off.neg_log_lik > at.neg_log_lik + 1.0);
+        b.modal = None;
+        assert!(Evaluation::baseline(&b, &priors, &runs).modal_fit(&theta).is_none());
+    }
+
+    proptest! {
+        /// The profiled discrepancy is no worse than any other, and its
+        /// −log L never rises when a residual shrinks.
+        #[test]
+        fn the_profiled_discrepancy_minimises(
+            r in proptest::collection::vec(-1.0..1.0f64, 1..6),
+            sd in proptest::collection::vec(prop_oneof![Just(0.0), 0.001..0.3f64], 6),
+            trial in 0.0..2.0f64,
+        ) {
+            let r2: Vec<f64> = r.iter().map(|x| x * x).collect();
+            let v: Vec<f64> = sd[..r.len()].iter().map(|s| s * s).collect();
+            let s = profiled_discrepancy(&r2, &v);
+            let best = neg_log_lik(&r2, &v, s);
+            prop_assert!(s >= 0.0);
+            prop_assert!(best <= neg_log_lik(&r2, &v, trial) + 1e-9);
+            let mut smaller = r2.clone();
+            smaller[0] *= 0.5;
+            let s2 = profiled_discrepancy(&smaller, &v);
+            prop_assert!(neg_log_lik(&smaller, &v, s2) <= best + 1e-9);
+        }
+    }
+}
