@@ -361,6 +361,7 @@ fn parameters_section(d: &Diagnosis) -> Section {
         rows,
         highlight_row: None,
     })];
+    blocks.extend(modal_table(&d.candidates[0], c));
     if c.committed_share > 0.0 {
         blocks.push(Block::Note {
             kind: NoteKind::Info,
@@ -389,6 +390,44 @@ fn parameters_section(d: &Diagnosis) -> Section {
         heading: format!("Calibrated parameters of {}", c.cause.as_str()),
         blocks,
     }
+}
+
+/// The identified frequencies against the baseline's and the chosen
+/// model's at their estimates (None without `modal.csv`).
+fn modal_table(base: &CandidateResult, chosen: &CandidateResult) -> Option<Block> {
+    let m = chosen.modal.as_ref()?;
+    let b = base.modal.as_ref().filter(|b| b.modes == m.modes);
+    let sd = |v: f64| if v > 0.0 { format!(" ± {:.3}", v.sqrt()) } else { String::new() };
+    let rows = (0..m.modes.len())
+        .map(|i| {
+            let mut row = vec![
+                m.modes[i].to_string(),
+                format!("{:.3}{}", m.measured_hz[i], sd(m.lab_var_hz2[i])),
+            ];
+            if chosen.cause != base.cause {
+                row.push(b.map_or("–".into(), |b| format!("{:.3}", b.model_hz[i])));
+            }
+            row.push(format!("{:.3}", m.model_hz[i]));
+            row
+        })
+        .collect();
+    let mut header = vec!["mode".to_string(), "measured (Hz)".into()];
+    if chosen.cause != base.cause {
+        header.push("baseline (Hz)".into());
+    }
+    header.push(format!("{} (Hz)", chosen.cause.as_str()));
+    Some(Block::Table(Table {
+        caption: format!(
+            "Identified frequencies (modal.csv, ± the lab's one sigma) and the models' at their \
+             estimates, which were calibrated on them too. Model discrepancy sd of {}: {:.3} Hz \
+             (estimated; 0 when the frequencies lie within the lab's uncertainty).",
+            chosen.cause.as_str(),
+            m.discrepancy_var_hz2.sqrt()
+        ),
+        header,
+        rows,
+        highlight_row: None,
+    }))
 }
 
 /// Per validation run, up to two sensors in the shaken direction (the most

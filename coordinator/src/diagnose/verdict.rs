@@ -49,9 +49,28 @@ pub struct CandidateJson {
     pub fe_points: usize,
     /// Calibrated values by name.
     pub parameters: std::collections::BTreeMap<String, f64>,
+    /// Its frequencies at the estimate against `modal.csv`, on which it
+    /// was calibrated too; absent without one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub modal: Option<ModalJson>,
     /// The variational posterior (chosen variant only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub posterior: Option<PosteriorJson>,
+}
+
+/// A candidate's frequencies against the identified ones.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModalJson {
+    /// Mode numbers.
+    pub modes: Vec<u32>,
+    /// Measured frequencies (Hz).
+    pub measured_hz: Vec<f64>,
+    /// The model's at the estimate (Hz).
+    pub model_hz: Vec<f64>,
+    /// The estimated model-discrepancy sd (Hz).
+    pub discrepancy_sd_hz: f64,
+    /// −log L of the frequencies (nats; part of the MDL's fit term).
+    pub neg_log_lik: f64,
 }
 
 /// A variant's posterior as written: per parameter mean, sd and central
@@ -249,6 +268,13 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 k: c.k,
                 fe_points: c.fe_points,
                 parameters: c.estimates.iter().map(|e| (e.name.clone(), e.value)).collect(),
+                modal: c.modal.as_ref().map(|m| ModalJson {
+                    modes: m.modes.clone(),
+                    measured_hz: m.measured_hz.clone(),
+                    model_hz: m.model_hz.clone(),
+                    discrepancy_sd_hz: m.discrepancy_var_hz2.sqrt(),
+                    neg_log_lik: m.neg_log_lik,
+                }),
                 posterior: posterior_json(&c.posterior),
             })
             .collect(),
