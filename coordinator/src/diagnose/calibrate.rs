@@ -240,20 +240,20 @@ pub(super) fn evaluate_full(
     let thetas: Vec<Vec<f64>> =
         us.iter().map(|u| u.iter().zip(ev.priors).map(|(u, p)| p.at(*u)).collect()).collect();
     let sims = exec.simulate(ev, &thetas)?;
-    Ok(us.iter().zip(sims).map(|(u, s)| judge(ev, u, s)).collect())
+    Ok(us.iter().zip(&thetas).zip(sims).map(|((u, theta), s)| judge(ev, u, theta, s)).collect())
 }
 
-/// The point, fits and residuals of one simulated point. The time-history
-/// residuals end with the modal frequencies' whitened ones when the bundle
-/// has `modal.csv` ([`super::modal_fit`]).
-fn judge(ev: &Evaluation<'_>, u: &[f64], sims: Sims) -> Full {
-    let theta: Vec<f64> = u.iter().zip(ev.priors).map(|(u, p)| p.at(*u)).collect();
-    let modal = match sims.as_ref().ok().and_then(|_| ev.modal_fit(&theta)).transpose() {
-        Ok(m) => m,
-        Err(e) => return (failed(u, e), None),
-    };
+/// The point, fits and residuals of one simulated point (unit-cube `u`,
+/// physical `theta`). The time-history residuals end with the modal
+/// frequencies' whitened ones when the bundle has `modal.csv`
+/// ([`super::modal_fit`]).
+fn judge(ev: &Evaluation<'_>, u: &[f64], theta: &[f64], sims: Sims) -> Full {
     match sims {
         Ok(sims) => {
+            let modal = match ev.modal_fit(theta).transpose() {
+                Ok(m) => m,
+                Err(e) => return (failed(u, e), None),
+            };
             let (fits, mut residuals) = ev.fits(&sims);
             // Missing readings add nothing to a Jacobian.
             residuals.iter_mut().flatten().filter(|r| !r.is_finite()).for_each(|r| *r = 0.0);

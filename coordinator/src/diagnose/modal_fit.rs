@@ -128,7 +128,8 @@ pub fn profiled_discrepancy(r2: &[f64], v: &[f64]) -> f64 {
     let ratio = (top / FLOOR_HZ2).powf(1.0 / (GRID - 1) as f64);
     let grid: Vec<f64> =
         std::iter::once(0.0).chain((0..GRID).map(|k| FLOOR_HZ2 * ratio.powi(k as i32))).collect();
-    let k = (0..grid.len()).min_by(|a, b| h(grid[*a]).total_cmp(&h(grid[*b]))).unwrap_or(0);
+    let values: Vec<f64> = grid.iter().map(|s| h(*s)).collect();
+    let k = (0..grid.len()).min_by(|a, b| values[*a].total_cmp(&values[*b])).unwrap_or(0);
     let (mut lo, mut hi) = (grid[k.saturating_sub(1)], grid[(k + 1).min(grid.len() - 1)]);
     if !(slope(lo) < 0.0 && slope(hi) > 0.0) {
         return grid[k];
@@ -145,7 +146,7 @@ pub fn profiled_discrepancy(r2: &[f64], v: &[f64]) -> f64 {
         }
     }
     let s = 0.5 * (lo + hi);
-    if h(s) <= h(grid[k]) {
+    if h(s) <= values[k] {
         s
     } else {
         grid[k]
