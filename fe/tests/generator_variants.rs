@@ -149,8 +149,17 @@ fn parameter_sets_follow_the_variant() {
         "J_main",
         "Iy_main",
     ];
+    let linear = [
+        "K_across",
+        "panel_mass_factor",
+        "member_mass_factor",
+        "rod_bending_factor",
+        "grid_axial_factor",
+        "grid_bending_factor",
+    ];
     let with_channels = |mut v: Vec<&'static str>| {
         v.extend(["channel_mass_kg_per_m", "channel_beam_factor"]);
+        v.extend(linear);
         v
     };
     assert_eq!(names(Perimeter::Linear, Connections::Rigid), with_channels(base.to_vec()));
@@ -169,7 +178,9 @@ fn parameter_sets_follow_the_variant() {
         "conn_reload_force",
         "conn_unload_shift",
     ]);
-    assert_eq!(all, with_channels(expected));
+    let mut with_joints = with_channels(expected);
+    with_joints.push("K_joint_rot");
+    assert_eq!(all, with_joints);
     let elastic = names(Perimeter::Friction, Connections::Elastic);
     assert!(elastic.contains(&"K_cc1") && !elastic.contains(&"gap_ratio"), "{elastic:?}");
     // The default set is the one of the default model on one layer.
@@ -177,7 +188,11 @@ fn parameter_sets_follow_the_variant() {
     let mut one_layer = specimen(2.4, 2.4, Perimeter::Linear, Connections::Rigid);
     one_layer.structure.layers = 1;
     assert_eq!(default, Parameters::prior_midpoints_for(&one_layer));
-    assert_eq!(parameters_for(&one_layer).iter().map(|i| i.name).collect::<Vec<_>>(), base);
+    let one_layer_names = [&base[..], &linear[..]].concat();
+    assert_eq!(
+        parameters_for(&one_layer).iter().map(|i| i.name).collect::<Vec<_>>(),
+        one_layer_names
+    );
 }
 
 /// Total translational mass along x of a model (t).

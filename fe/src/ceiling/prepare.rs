@@ -11,7 +11,8 @@ use super::damping::{check_damping_ratio, check_share, rayleigh_on_first_modes, 
 use super::input::BaseInput;
 use super::sensor::{place, Placement, Sensor, SensorKind};
 use super::simulate::{CeilingError, SimOptions};
-use crate::eigen::{modal_analysis, LanczosSettings};
+use crate::assembly::Structure;
+use crate::eigen::{modal_analysis, LanczosSettings, ModalResult};
 use crate::generator::{generate, CeilingSpec, Parameters};
 use crate::model::{Damping, Model};
 use crate::transient::spec::RecorderSpec;
@@ -79,14 +80,47 @@ pub fn prepare(
     opts: &SimOptions,
 ) -> Result<PreparedRun, CeilingError> {
     check(input, opts)?;
+    instrument(&damped_model(spec, params, opts, 0)?, spec, input, sensors, opts)
+}
+
+/// A generated model with its Rayleigh damping, its structure and modes,
+/// before any run is instrumented on it.
+#[derive(Debug, Clone)]
+pub struct DampedModel {
+    /// The model with its damping block and flagged springs.
+    pub model: Model,
+    /// Its assembled structure.
+    pub structure: Structure,
+    /// Its lowest modes: `max(n_modes, opts.n_modes)` asked of
+    /// [`damped_model`], at most one per DOF with mass.
+    pub modal: ModalResult,
+    /// The Rayleigh damping, fitted on the first `opts.n_modes` modes.
+    pub rayleigh: RayleighFit,
+    /// How many of the modes a run reports (`opts.n_modes`).
+    pub reported: usize,
+}
+
+/// Generates `spec` with `params`, flags the springs of `opts`'
+/// Rayleigh groups and fits the Rayleigh pair on the first `opts.n_modes`
+/// modes of the lowest `max(n_modes, opts.n_modes)` computed (as many as
+/// carry mass when fewer).
+pub fn damped_model(
+    spec: &CeilingSpec,
+    params: &Parameters,
+    opts: &SimOptions,
+    n_modes: usize,
+) -> Result<DampedModel, CeilingError> {
+    check_options(opts)?;
     let mut model = generate(spec, params)?;
     for sp in model.springs.iter_mut() {
         if sp.group.as_ref().is_some_and(|g| opts.rayleigh_groups.contains(g)) {
             sp.rayleigh = true;
         }
     }
-    let (_, modal) = modal_analysis(&model, opts.n_modes.max(2), &LanczosSettings::default())?;
-    let rayleigh = rayleigh_on_first_modes(&modal, opts.damping_ratio)
+    let first = opts.n_modes.max(2);
+    let wanted = n_modes.max(first).min(mass_dofs(&model)).max(first);
+    let (structure, modal) = modal_analysis(&model, wanted, &LanczosSettings::default())?;
+    let rayleigh = rayleigh_on_first_modes(&first_modes(&modal, first), opts.damping_ratio)
         .ok_or_else(|| CeilingError::Input("no mode moves mass in x or y".into()))?
         .with_mass_share(opts.damping_mass_share);
     model.damping = Some(Damping {
@@ -95,6 +129,19 @@ pub fn prepare(
         beta_k_s: rayleigh.beta_k_s,
         extra: damping_form(opts.damping_committed_share),
     });
+    Ok(DampedModel { model, structure, modal, rayleigh, reported: opts.n_modes })
+}
+
+/// One run of input `input` read by `sensors` on a damped model of `spec`.
+pub fn instrument(
+    dm: &DampedModel,
+    spec: &CeilingSpec,
+    input: &BaseInput,
+    sensors: &[Sensor],
+    opts: &SimOptions,
+) -> Result<PreparedRun, CeilingError> {
+    check(input, opts)?;
+    let model = dm.model.clone();
     let (nx, ny) = grid_size(spec);
     let placements: Vec<Placement> = sensors
         .iter()
@@ -103,13 +150,13 @@ pub fn prepare(
     let mut recorders = recorder_specs(sensors, &placements);
     let n_sensor_recorders = recorders.len();
     let counts = spring_recorders(&model, &opts.spring_groups, &mut recorders);
-    let n = opts.n_modes.min(modal.freq_hz.len());
+    let n = dm.reported.min(dm.modal.freq_hz.len());
     let steps = steps_per_sample(input.dt_s, opts.substeps, opts.max_step_s);
     Ok(PreparedRun {
-        freq_hz: modal.freq_hz[..n].to_vec(),
-        mode_dir: (0..n).map(|k| modal.dominant(k)).collect(),
+        freq_hz: dm.modal.freq_hz[..n].to_vec(),
+        mode_dir: (0..n).map(|k| dm.modal.dominant(k)).collect(),
         model,
-        rayleigh,
+        rayleigh: dm.rayleigh,
         sensors: sensors.to_vec(),
         placements,
         recorders,
@@ -121,6 +168,24 @@ pub fn prepare(
         output_every_n_steps: steps,
         input_dt_s: input.dt_s,
     })
+}
+
+/// Translational DOFs that carry mass (an upper bound on the modes).
+fn mass_dofs(model: &Model) -> usize {
+    model.masses.iter().map(|m| m.m_t.iter().filter(|v| **v > 0.0).count()).sum()
+}
+
+/// The first `n` of `modal`'s modes.
+fn first_modes(modal: &ModalResult, n: usize) -> ModalResult {
+    let n = n.min(modal.freq_hz.len());
+    ModalResult {
+        freq_hz: modal.freq_hz[..n].to_vec(),
+        omega2: modal.omega2[..n].to_vec(),
+        shapes: modal.shapes[..n].to_vec(),
+        participation: modal.participation[..n].to_vec(),
+        effective_mass_t: modal.effective_mass_t[..n].to_vec(),
+        total_mass_t: modal.total_mass_t,
+    }
 }
 
 fn check(input: &BaseInput, opts: &SimOptions) -> Result<(), CeilingError> {
@@ -136,6 +201,11 @@ fn check(input: &BaseInput, opts: &SimOptions) -> Result<(), CeilingError> {
             return bad(format!("input {name}: sample {k} is not a finite number"));
         }
     }
+    check_options(opts)
+}
+
+fn check_options(opts: &SimOptions) -> Result<(), CeilingError> {
+    let bad = |m: String| Err(CeilingError::Input(m));
     check_damping_ratio(opts.damping_ratio).or_else(|m| bad(format!("damping_ratio = {m}")))?;
     check_share(opts.damping_mass_share).or_else(|m| bad(format!("damping_mass_share = {m}")))?;
     check_share(opts.damping_committed_share)

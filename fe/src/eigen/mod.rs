@@ -25,7 +25,7 @@ pub mod supernodal;
 
 pub use dense::dense_eigen;
 pub use lanczos::{shift_invert_lanczos, LanczosSettings};
-pub use modal::{modal_analysis, ModalResult};
+pub use modal::{horizontal_share, modal_analysis, ModalResult};
 
 /// Eigenvalues ω² (rad²/s², ascending) and mass-normalised vectors (n_free each).
 #[derive(Debug, Clone)]

@@ -51,6 +51,30 @@ pub fn modal_analysis(
     Ok((s, result))
 }
 
+/// Each mode's share of its kinetic energy (Σ m φ² over the translations)
+/// in the horizontal translations x and y: near 1 for the sway modes a
+/// shaking table's horizontal sensors identify, near 0 for a vertical mode.
+pub fn horizontal_share(s: &Structure, modal: &ModalResult) -> Vec<f64> {
+    modal
+        .shapes
+        .iter()
+        .map(|phi| {
+            let energy = |dofs: &[usize]| -> f64 {
+                (s.dofs.eqs.iter())
+                    .flat_map(|eqs| dofs.iter().filter_map(move |d| eqs[*d]))
+                    .map(|e| s.mass[e] * phi[e] * phi[e])
+                    .sum()
+            };
+            let (horizontal, all) = (energy(&[0, 1]), energy(&[0, 1, 2]));
+            if all > 0.0 {
+                horizontal / all
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
 /// Participation factors and effective masses of eigenpairs of `s`.
 pub fn modal_quantities(s: &Structure, pairs: Eigenpairs) -> ModalResult {
     let influence = |d: usize| {

@@ -7,7 +7,8 @@
 //!   piece gets its own node, coincident with the grid node and joined to it
 //!   by six springs in the ending member's axes: axial K_cc1 (or the scaled
 //!   CJS-A Pinching4), in-plane transverse K_cc2, vertical K_cc3 (Table 6.1:
-//!   X, Y, Z for the cross tees), rotations [`ROTATION_N_MM_PER_RAD`]. The
+//!   X, Y, Z for the cross tees), rotations [`ROTATION_N_MM_PER_RAD`] (in
+//!   the plane `K_joint_rot` when given: a semi-rigid joint). The
 //!   cross tees end at the main tees; the sub cross tees end at the cross
 //!   tees, a joint the seed (4.2.2) calls basically identical to the
 //!   main-cross tee joint, so it gets the same springs.
@@ -86,6 +87,9 @@ struct Mats {
     splice_axial: u64,
     splice_restraint: u64,
     rotation: u64,
+    /// The tee joints' rotation in the plane (about z): `rotation` unless
+    /// `K_joint_rot` sets its own.
+    plan_rotation: u64,
 }
 
 /// Appends the connection materials after the existing ones.
@@ -116,6 +120,13 @@ fn materials(spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Mats {
     for (k, spec) in list.into_iter().enumerate() {
         m.materials.push(MaterialDef { id: first + k as u64, spec });
     }
+    let k_plan = p.value_or_midpoint("K_joint_rot");
+    let plan_rotation = if k_plan == ROTATION_N_MM_PER_RAD {
+        first + 5
+    } else {
+        m.materials.push(MaterialDef { id: first + 6, spec: MaterialSpec::Elastic { k: k_plan } });
+        first + 6
+    };
     Mats {
         axial: first,
         transverse: first + 1,
@@ -123,6 +134,7 @@ fn materials(spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Mats {
         splice_axial: first + 3,
         splice_restraint: first + 4,
         rotation: first + 5,
+        plan_rotation,
     }
 }
 
@@ -180,10 +192,10 @@ fn rewire(m: &mut Model, joint: &Joint) {
 /// The six springs of one connection: (dof, material, direction name).
 fn springs_of(joint: &Joint, mats: &Mats) -> [(u8, u64, &'static str); 6] {
     let across = if joint.axis == 1 { 2 } else { 1 };
-    let (axial, transverse, vertical) = if joint.splice {
-        (mats.splice_axial, mats.splice_restraint, mats.splice_restraint)
+    let (axial, transverse, vertical, plan) = if joint.splice {
+        (mats.splice_axial, mats.splice_restraint, mats.splice_restraint, mats.rotation)
     } else {
-        (mats.axial, mats.transverse, mats.vertical)
+        (mats.axial, mats.transverse, mats.vertical, mats.plan_rotation)
     };
     [
         (joint.axis, axial, "axial"),
@@ -191,7 +203,7 @@ fn springs_of(joint: &Joint, mats: &Mats) -> [(u8, u64, &'static str); 6] {
         (3, vertical, "vertical"),
         (4, mats.rotation, "rotation"),
         (5, mats.rotation, "rotation"),
-        (6, mats.rotation, "rotation"),
+        (6, plan, "rotation"),
     ]
 }
 

@@ -22,7 +22,7 @@
 use serde_json::json;
 
 use super::connections::connections;
-use super::params::{parameters_for, ParamError, Parameters};
+use super::params::{parameters_for, ParamError, Parameters, MEMBER_KG_PER_M};
 use super::perimeter::perimeter;
 use super::spec::CeilingSpec;
 use crate::model::{validate, Analysis, Beam, Fixity, Mass, Model, ModelError, Node, Units};
@@ -75,6 +75,9 @@ pub(super) struct Grid {
     pub(super) module_mm: f64,
     main_every: usize,
     rod_every: usize,
+    /// Column of the first main tee and row of the first rods, modulo
+    /// their spacing (0: lines from the origin; 1: one module in).
+    phase: usize,
 }
 
 impl Grid {
@@ -89,7 +92,7 @@ impl Grid {
     }
     /// The member along y-line i (1 <= i < nx).
     pub(super) fn y_line(&self, i: usize) -> Member {
-        if (i - 1).is_multiple_of(self.main_every) {
+        if (i + self.main_every - self.phase).is_multiple_of(self.main_every) {
             Member::Main
         } else {
             Member::Sub
@@ -112,6 +115,7 @@ pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, Genera
         module_mm,
         main_every: ratio(s.main_tee_spacing_m).max(1),
         rod_every: ratio(s.hanger_spacing_m).max(1),
+        phase: usize::from(!s.lines_from_origin),
     };
     let mut m = empty(spec);
     grid_nodes(&g, &mut m);
@@ -120,7 +124,8 @@ pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, Genera
     let rod_tops = rods(&g, params, s.hanger_length_m * 1000.0, &mut m);
     let walls = perimeter(&g, spec, params, &mut m);
     let pieces = connections(&g, spec, params, &mut m);
-    masses(&g, s.panel_mass_kg * 1e-3, &mut m);
+    masses(&g, s.panel_mass_kg * 1e-3 * params.value_or_midpoint("panel_mass_factor"), &mut m);
+    member_masses(&g, &rod_tops, params.value_or_midpoint("member_mass_factor"), &mut m);
     if s.layers == 2 {
         let kg_per_m = params.value_or_midpoint("channel_mass_kg_per_m");
         channel_masses(&rod_tops, s.length_x_m, kg_per_m, &mut m);
@@ -185,14 +190,17 @@ fn grid_nodes(g: &Grid, m: &mut Model) {
     }
 }
 
-/// Section (A, J, Iy, Iz) of a member from the parameters.
+/// Section (A, J, Iy, Iz) of a member from the parameters, the area times
+/// `grid_axial_factor` and the inertias times `grid_bending_factor`.
 fn section(member: Member, p: &Parameters) -> [f64; 4] {
     let v = |name| p.value_or_midpoint(name);
-    match member {
+    let [a, j, iy, iz] = match member {
         Member::Main => [v("A_main"), v("J_main"), v("Iy_main"), 1000.0],
         Member::Cross => [v("A_cross"), v("J_cross"), v("Iy_cross"), v("Iz_cross")],
         Member::Sub => [28.0, 4200.0, 3000.0, 650.0],
-    }
+    };
+    let (fa, fb) = (v("grid_axial_factor"), v("grid_bending_factor"));
+    [a * fa, j * fb, iy * fb, iz * fb]
 }
 
 fn push_beam(
@@ -248,11 +256,12 @@ fn cross_tees(g: &Grid, p: &Parameters, m: &mut Model) {
 
 fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> Vec<Node> {
     let area = 40.0;
-    let i_mm4 = area * area / (4.0 * std::f64::consts::PI);
+    let i_mm4 =
+        area * area / (4.0 * std::f64::consts::PI) * p.value_or_midpoint("rod_bending_factor");
     let sec = [area, 2.0 * i_mm4, i_mm4, i_mm4];
     let mut tops = vec![];
     for i in (1..g.nx).filter(|i| g.y_line(*i) == Member::Main) {
-        for j in (1..g.ny).filter(|j| (j - 1) % g.rod_every == 0) {
+        for j in (1..g.ny).filter(|j| (j + g.rod_every - g.phase) % g.rod_every == 0) {
             let id = g.id(i, j);
             let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, length_mm];
             tops.push(Node { id: 200000 + id, xyz_mm });
@@ -310,6 +319,37 @@ fn channel_beams(rod_tops: &[Node], p: &Parameters, m: &mut Model) {
                 );
             }
         }
+    }
+}
+
+/// The members' own mass ([`MEMBER_KG_PER_M`] times `factor`): each grid
+/// segment's half on each of its grid nodes, and each rod's lower half on
+/// its grid node (the upper half sits on the fixed top); none at 0.
+fn member_masses(g: &Grid, rod_tops: &[Node], factor: f64, m: &mut Model) {
+    if factor <= 0.0 {
+        return;
+    }
+    let segment_t = |member: Member| MEMBER_KG_PER_M[member.index() as usize] * g.module_mm * 1e-6;
+    let mut add = |node: u64, t: f64| match m.masses.iter_mut().find(|x| x.node == node) {
+        Some(x) => x.m_t.iter_mut().take(3).for_each(|v| *v += t),
+        None => m.masses.push(Mass { node, m_t: [t, t, t, 0.0, 0.0, 0.0] }),
+    };
+    for i in 1..g.nx {
+        let t = 0.5 * factor * segment_t(g.y_line(i));
+        for j in 0..g.ny {
+            add(g.id(i, j), t);
+            add(g.id(i, j + 1), t);
+        }
+    }
+    let t = 0.5 * factor * segment_t(Member::Cross);
+    for j in 1..g.ny {
+        for i in 0..g.nx {
+            add(g.id(i, j), t);
+            add(g.id(i + 1, j), t);
+        }
+    }
+    for top in rod_tops {
+        add(top.id - 200000, 0.5 * factor * MEMBER_KG_PER_M[3] * top.xyz_mm[2] * 1e-6);
     }
 }
 

@@ -18,7 +18,8 @@ pub mod spec;
 
 pub use grid::{generate, GenerateError};
 pub use params::{
-    param_info, parameters_for, Domain, ParamError, ParamInfo, Parameters, EXTENSIONS, PARAMETERS,
+    param_info, parameters_for, Domain, ParamError, ParamInfo, Parameters, EXTENSIONS, LINEAR_FORM,
+    MEMBER_KG_PER_M, PARAMETERS,
 };
 pub use spec::{
     Boundary, CeilingSpec, Connections, EndCondition, ModelOptions, Perimeter, SpecError,

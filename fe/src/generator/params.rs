@@ -155,6 +155,51 @@ pub const EXTENSIONS: [ParamInfo; 11] = [
     },
 ];
 
+/// The linear form of the specimen beyond Table 6.1, each at a default
+/// that rebuilds the model without it (so a model that does not name them
+/// is unchanged), for a specimen built otherwise than the generator assumes:
+/// - `K_across` (N/mm, default 10 000, the rigid restraint): the perimeter's
+///   stiffness across a grid end's axis on a semi-free wall (a wall angle
+///   that bends, a clip with play, an end resting on the angle by friction);
+/// - `panel_mass_factor` (default 1): the panels' mass over the bundle's
+///   nominal `panel_mass_kg` (tiles absorb water, carry fixtures, scatter);
+/// - `member_mass_factor` (default 0: members massless, as the seed's
+///   models): the grid members' and rods' own mass over the seed-facts
+///   values ([`MEMBER_KG_PER_M`]), lumped half to each end's grid node
+///   (a rod's upper half to its fixed top);
+/// - `rod_bending_factor` (default 1): the rods' bending inertia over the
+///   M8 rod's (0.25 gives a rod pinned at the tee the fixed rod's sway
+///   stiffness 3EI/L³);
+/// - `grid_axial_factor`, `grid_bending_factor` (default 1): the grid
+///   members' area, and their three inertias, over Table 6.1's sections:
+///   joints that give (a connection's springs in series with the member,
+///   a splice's play) smeared over the members between them;
+/// - `K_joint_rot` (N·mm/rad, default 1e13, continuity): the tee joints'
+///   rotational stiffness in the plane when connections are not rigid (a
+///   tab locked in a slot turns before it pulls out).
+pub const LINEAR_FORM: [ParamInfo; 7] = [
+    ParamInfo { default: Some(1.0e4), ..p("K_across", "N/mm", 10.0, 1.0e4, true) },
+    ParamInfo { default: Some(1.0), ..p("panel_mass_factor", "-", 0.8, 1.2, true) },
+    ParamInfo {
+        domain: Domain::NonNegative,
+        default: Some(0.0),
+        ..p("member_mass_factor", "-", 0.0, 1.5, true)
+    },
+    ParamInfo { default: Some(1.0), ..p("rod_bending_factor", "-", 0.1, 2.0, true) },
+    ParamInfo { default: Some(1.0), ..p("grid_axial_factor", "-", 0.02, 1.5, true) },
+    ParamInfo { default: Some(1.0), ..p("grid_bending_factor", "-", 0.3, 3.0, true) },
+    ParamInfo { default: Some(1.0e13), ..p("K_joint_rot", "N*mm/rad", 1.0e3, 1.0e13, true) },
+];
+
+/// The members' own mass (kg/m: main tee, cross tee, sub cross tee, hanger
+/// rod), seed-facts' values, scaled by `member_mass_factor`.
+pub const MEMBER_KG_PER_M: [f64; 4] = [1.07, 0.31, 0.13, 0.37];
+
+/// Every parameter a generator knows: Table 6.1, the extensions, the linear form.
+fn all_params() -> impl Iterator<Item = &'static ParamInfo> {
+    PARAMETERS.iter().chain(&EXTENSIONS).chain(&LINEAR_FORM)
+}
+
 /// Which model choice a parameter needs (for the refusal message).
 fn needs(name: &str) -> &'static str {
     match name {
@@ -173,12 +218,13 @@ fn needs(name: &str) -> &'static str {
         "channel_mass_kg_per_m" | "channel_beam_factor" => {
             "it needs layers = 2 (carrying channels above the grid)"
         }
+        "K_joint_rot" => "it needs connections = \"elastic\" or \"pinching4\"",
         _ => "it is a parameter of the default model",
     }
 }
 
 /// Every parameter a specimen's model variant uses, with its prior, in
-/// Table 6.1 order then [`EXTENSIONS`] order.
+/// Table 6.1 order, then [`EXTENSIONS`] order, then [`LINEAR_FORM`] order.
 pub fn parameters_for(spec: &CeilingSpec) -> Vec<ParamInfo> {
     let m = spec.model;
     let conn = m.connections;
@@ -192,19 +238,15 @@ pub fn parameters_for(spec: &CeilingSpec) -> Vec<ParamInfo> {
             conn == Connections::Pinching4
         }
         "channel_mass_kg_per_m" | "channel_beam_factor" => spec.structure.layers == 2,
+        "K_joint_rot" => conn != Connections::Rigid,
         _ => true,
     };
-    PARAMETERS
-        .iter()
-        .chain(&EXTENSIONS)
-        .filter(|p| used(p.name))
-        .map(|p| ParamInfo { modelled: true, ..*p })
-        .collect()
+    all_params().filter(|p| used(p.name)).map(|p| ParamInfo { modelled: true, ..*p }).collect()
 }
 
-/// The description of a parameter by name, from either table.
+/// The description of a parameter by name, from any table.
 pub fn param_info(name: &str) -> Option<ParamInfo> {
-    PARAMETERS.iter().chain(&EXTENSIONS).find(|p| p.name == name).copied()
+    all_params().find(|p| p.name == name).copied()
 }
 
 /// Why a parameter value is refused.
@@ -254,9 +296,13 @@ pub struct Parameters {
 
 impl Parameters {
     /// Every parameter of the default model (linear perimeter, rigid
-    /// connections: the 13 modelled ones of Table 6.1) at its prior mid-point.
+    /// connections: the 10 modelled ones of Table 6.1 and the linear form
+    /// but the joints' rotation) at its prior mid-point or default.
     pub fn prior_midpoints() -> Self {
-        Self::at_midpoints(PARAMETERS.iter().filter(|p| p.modelled).copied().collect())
+        let linear = LINEAR_FORM.iter().filter(|p| p.name != "K_joint_rot");
+        Self::at_midpoints(
+            PARAMETERS.iter().filter(|p| p.modelled).chain(linear).copied().collect(),
+        )
     }
 
     /// Every parameter the specimen's model variant uses at its prior
@@ -281,7 +327,7 @@ impl Parameters {
             return Err(match param_info(name) {
                 Some(p) => ParamError::NotModelled { name: name.into(), needs: needs(p.name) },
                 None => {
-                    let known = PARAMETERS.iter().chain(&EXTENSIONS).map(|p| p.name);
+                    let known = all_params().map(|p| p.name);
                     ParamError::Unknown {
                         name: name.into(),
                         known: known.collect::<Vec<_>>().join(", "),

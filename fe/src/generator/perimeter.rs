@@ -55,6 +55,10 @@ fn materials(spec: &CeilingSpec, p: &Parameters) -> Vec<MaterialSpec> {
         let factor = p.value_or_midpoint("impact_factor");
         mats.extend(GAP_K_N_PER_MM.map(|k| MaterialSpec::Gap { k: factor * k, gap }));
     }
+    let k_across = p.value_or_midpoint("K_across");
+    if k_across != RESTRAINT_N_PER_MM {
+        mats.push(MaterialSpec::Elastic { k: k_across });
+    }
     mats
 }
 
@@ -114,11 +118,12 @@ fn ends(g: &Grid) -> Vec<End> {
 
 /// The (dof, material, group) of each spring at one grid end whose axis is
 /// `axial`: the along-axis law `friction_mat` (plus the gap `gap_mat`, if
-/// any) and the restraints (material 2) its wall's `condition` gives.
+/// any), the across-axis support `across_mat` of a semi-free end, and the
+/// restraints (material 2) its wall's `condition` gives.
 fn end_springs(
     condition: EndCondition,
     axial: u8,
-    friction_mat: u64,
+    (friction_mat, across_mat): (u64, u64),
     gap_mat: Option<u64>,
 ) -> Vec<(u8, u64, &'static str)> {
     let perpendicular = if axial == 1 { 2 } else { 1 };
@@ -131,7 +136,8 @@ fn end_springs(
     }
     list.push(match condition {
         EndCondition::Free => (perpendicular, friction_mat, "perimeter_friction_across"),
-        _ => (perpendicular, 2, "perimeter_perpendicular"),
+        EndCondition::Fixed => (perpendicular, 2, "perimeter_perpendicular"),
+        _ => (perpendicular, across_mat, "perimeter_perpendicular"),
     });
     list.push((3, 2, "perimeter_vertical"));
     list
@@ -148,6 +154,12 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
     let friction_mat = if per.has_friction() { 3 } else { 1 };
     let first_gap = 3 + u64::from(per.has_friction());
     let spread = if per.has_pounding() { p.value_or_midpoint("gap_spread") } else { 0.0 };
+    // The across-axis material: the restraint (2), or the last of `materials`.
+    let across_mat = if p.value_or_midpoint("K_across") == RESTRAINT_N_PER_MM {
+        2
+    } else {
+        m.materials.len() as u64
+    };
     let mut walls = vec![];
     for end in ends(g) {
         let (i, j, axial, wall_first, side, member) = end;
@@ -159,7 +171,7 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
         let factor = 1.0 + spread * end_offset(g, &end);
         let gap_mat = per.has_pounding().then(|| scaled_gap(m, first_gap + member.index(), factor));
         let condition = spec.structure.boundary.on_side(side);
-        let list = end_springs(condition, axial, friction_mat, gap_mat);
+        let list = end_springs(condition, axial, (friction_mat, across_mat), gap_mat);
         for (dof, mat, group) in list {
             m.springs.push(Spring {
                 id: 100001 + m.springs.len() as u64,
@@ -167,7 +179,7 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
                 j: b,
                 dof,
                 mat,
-                rayleigh: mat == 1 || mat == 2,
+                rayleigh: mat == 1 || mat == 2 || mat == across_mat,
                 group: Some(group.into()),
                 side: Some(side.into()),
                 member: Some(member.name().into()),

@@ -160,6 +160,13 @@ pub struct Structure {
     pub boundary: Boundary,
     /// Grid end to wall angle (mm).
     pub nominal_gap_mm: f64,
+    /// Main tees on the lines x = 0, s, 2s, … and hanger rods on the rows
+    /// y = 0, h, 2h, … counted from the origin corner (the frame of the
+    /// measured-bundle format; the lines on a wall are the wall's);
+    /// false (the default): the verification models' layout, the first
+    /// main tee and the first row of rods one module from the walls.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub lines_from_origin: bool,
 }
 
 fn two() -> u8 {

@@ -19,6 +19,7 @@ pub fn type_c_structure(lx_m: f64, ly_m: f64) -> Structure {
         layers: 2,
         boundary: Boundary::SemiFree,
         nominal_gap_mm: 19.0,
+        lines_from_origin: false,
     }
 }
 
