@@ -37,6 +37,7 @@ pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec
             layers: s.layers,
             boundary: s.boundary,
             nominal_gap_mm: gap,
+            lines_from_origin: true,
         },
         model,
     };

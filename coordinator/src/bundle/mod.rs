@@ -62,6 +62,10 @@ pub struct Bundle {
     pub runs: Vec<RunData>,
     /// `modal.csv`, if present.
     pub modal: Option<Vec<ModalEntry>>,
+    /// The specimen's linear form as a diagnosis's linear stage identified
+    /// it (FE parameter or solver option, value), held by every evaluation
+    /// after that stage; empty as read (the generator's defaults).
+    pub linear_form: Vec<(&'static str, f64)>,
 }
 
 /// Reads and checks a whole bundle directory.
@@ -80,7 +84,7 @@ pub fn read_bundle_with(dir: &Path, limits: &Limits) -> Result<Bundle, BundleErr
     let modal_path = dir.join("modal.csv");
     let modal =
         if modal_path.exists() { Some(modal::read_modal(&modal_path, limits)?) } else { None };
-    Ok(Bundle { dir: dir.to_path_buf(), manifest, runs, modal })
+    Ok(Bundle { dir: dir.to_path_buf(), manifest, runs, modal, linear_form: Vec::new() })
 }
 
 impl Bundle {

@@ -72,6 +72,14 @@ pub struct Args {
     /// in proportion).
     #[arg(long, default_value_t = coordinator::diagnose::resample::SIMULATION_RATE_HZ)]
     pub simulation_rate_hz: f64,
+    /// Skip the linear stage: every variant keeps the generator's linear
+    /// form and calibrates the perimeter stiffness and damping alone.
+    #[arg(long, conflicts_with = "linear_only")]
+    pub no_linear_stage: bool,
+    /// Run the linear stage only: print its fit of the weakest runs and
+    /// `modal.csv` and write it to OUT/linear.json.
+    #[arg(long)]
+    pub linear_only: bool,
 }
 
 /// Runs `diagnose`.
@@ -98,10 +106,34 @@ pub fn run(a: Args) -> Result<()> {
     if !(rate >= 0.0 && rate.is_finite()) {
         anyhow::bail!("--simulation-rate-hz {rate}: expected a rate in Hz, or 0 for none");
     }
-    let opts = DiagnoseOptions { budget, ..Default::default() };
+    let opts = DiagnoseOptions { budget, linear_stage: !a.no_linear_stage, ..Default::default() };
+    if a.linear_only {
+        return linear_only(&a.bundle, &a.out, &opts, (rate > 0.0).then_some(rate));
+    }
     let report =
         diagnose_dir(&a.bundle, &a.out, &opts, (rate > 0.0).then_some(rate), &plan, a.farm.quiet)?;
     println!("report: {}", report.display());
+    Ok(())
+}
+
+/// The linear stage alone on the bundle in `dir`: prints its fit and writes
+/// `out/linear.json`.
+fn linear_only(dir: &Path, out: &Path, opts: &DiagnoseOptions, rate: Option<f64>) -> Result<()> {
+    use coordinator::diagnose::linear_stage::{linear_stage, report::LinearJson};
+    let (bundle, _) = read_for_simulation(dir, rate)?;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let (cal, _) = coordinator::diagnose::pipeline::split_runs(&bundle);
+    let start = std::time::Instant::now();
+    let (threads, seed) = (opts.budget.threads, opts.budget.seed);
+    let stage = linear_stage(&bundle, &cal, threads, seed, &mut |_, _| {})
+        .map_err(|e| anyhow::anyhow!(e))?;
+    let ids: Vec<String> = bundle.manifest.runs.iter().map(|r| r.id.clone()).collect();
+    let json = LinearJson::of(&ids, &stage);
+    eprint!("{}", json.summary());
+    eprintln!("{} linear evaluations in {:.1} s", stage.evaluations, start.elapsed().as_secs_f64());
+    let path = out.join("linear.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&json)?)
+        .with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }
 

@@ -97,11 +97,38 @@ pub const CHANNEL_BEAMS: Prior = Prior {
     reference: None,
 };
 
-/// The baseline's priors: [`BASELINE_PRIORS`], followed by [`CHANNELS`] and
-/// [`CHANNEL_BEAMS`] when the carrying channels are calibrated.
-pub fn baseline_priors(channels: bool) -> Vec<Prior> {
+/// The baseline's priors: [`BASELINE_PRIORS`] (each within a factor
+/// [`HELD_SPREAD`] of the linear stage's estimate when `held` has one),
+/// followed by [`CHANNELS`] and [`CHANNEL_BEAMS`] when the carrying
+/// channels are calibrated.
+pub fn baseline_priors(held: &[(&'static str, f64)], channels: bool) -> Vec<Prior> {
     let extra = if channels { &[CHANNELS, CHANNEL_BEAMS][..] } else { &[] };
-    BASELINE_PRIORS.iter().chain(extra).copied().collect()
+    BASELINE_PRIORS.iter().map(|p| around_held(p, held)).chain(extra.iter().copied()).collect()
+}
+
+/// How far the nonlinear stage's baseline may move the stiffness and the
+/// damping ratio from the linear stage's estimate (a factor each way): the
+/// stronger calibration runs may ask for a softer or more damped best
+/// linear model (a slipping perimeter seen linearly), and a factor of two
+/// is the most a moderate run's nonlinearity moved a resonance on the
+/// seed's sweeps (its 0.15 g to 0.3 g sweeps shifted the first mode by
+/// under 30 %), doubled for damping's coarser estimate.
+pub const HELD_SPREAD: f64 = 2.0;
+
+/// `p` log-uniform within [`HELD_SPREAD`] of the value `held` gives it
+/// (ratios below 1 kept there), else `p`.
+fn around_held(p: &Prior, held: &[(&'static str, f64)]) -> Prior {
+    match held.iter().find(|(n, v)| *n == p.name && *v > 0.0) {
+        Some((_, v)) => {
+            let high = if p.name == "damping_ratio" {
+                (v * HELD_SPREAD).min(0.5)
+            } else {
+                v * HELD_SPREAD
+            };
+            Prior { low: v / HELD_SPREAD, high, log: true, ..*p }
+        }
+        None => *p,
+    }
 }
 
 /// The calibrated baseline's demand on the parts an extension changes,
@@ -238,7 +265,10 @@ pub fn model_parameters(
             let force = (value * demand.connection_n / CJS_A_FIRST_FORCE_N).max(floor);
             let k =
                 other.iter().find(|(n, _)| *n == "conn_stiffness_factor").map_or(1.0, |(_, v)| *v);
-            let k_cc1 = fe::generator::param_info("K_cc1").map_or(800.0, |p| p.midpoint());
+            let k_cc1 = match other.iter().find(|(n, _)| *n == "K_cc1") {
+                Some((_, v)) => *v,
+                None => fe::generator::param_info("K_cc1").map_or(800.0, |p| p.midpoint()),
+            };
             let disp = force * CJS_A_INITIAL_N_PER_MM / (k * k_cc1);
             vec![("conn_force_scale", force), ("conn_disp_scale", disp)]
         }
@@ -250,6 +280,7 @@ pub fn model_parameters(
 fn name_static(name: &str) -> &'static str {
     BASELINE_PRIORS
         .iter()
+        .chain(&super::linear_stage::LINEAR_PRIORS)
         .chain([&CHANNELS, &CHANNEL_BEAMS])
         .chain(&POUNDING)
         .chain(&FRICTION)
@@ -443,7 +474,7 @@ mod tests {
         for (c, layers) in Cause::ALL.into_iter().flat_map(|c| [(c, 1), (c, 2)]) {
             structure.layers = layers;
             let spec = crate::specimen::fe_spec(&structure, c.model_options()).unwrap();
-            let priors = c.priors_on(&baseline_priors(layers == 2));
+            let priors = c.priors_on(&baseline_priors(&[], layers == 2));
             let named: Vec<(&str, f64)> = priors.iter().map(|q| (q.name, q.at(0.5))).collect();
             for p in &priors {
                 for v in [p.low, p.high].into_iter().chain(p.reference) {

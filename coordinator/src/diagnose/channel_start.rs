@@ -73,7 +73,7 @@ mod tests {
     use crate::diagnose::fit::ChannelFit;
 
     fn channel_cal(beams_u: f64) -> Calibration {
-        let priors = baseline_priors(true);
+        let priors = baseline_priors(&[], true);
         let u = vec![0.3, 0.4, 0.5, beams_u];
         Calibration {
             cause: Cause::None,
@@ -107,7 +107,7 @@ mod tests {
     #[test]
     fn a_baseline_without_beams_has_no_second_start() {
         let mut cal = channel_cal(0.1);
-        cal.priors = baseline_priors(false);
+        cal.priors = baseline_priors(&[], false);
         cal.points[0].u.truncate(2);
         assert_eq!(seed_section_start(&cal, &[2.0]), None);
     }

@@ -99,7 +99,7 @@ impl FeExecutor for ThreadExecutor {
 
 /// `f` at every item on up to `threads` threads, results in item order (a
 /// panicking call becomes an error).
-fn on_threads<T: Sync, R: Send>(
+pub(crate) fn on_threads<T: Sync, R: Send>(
     items: &[T],
     threads: usize,
     f: impl Fn(&T) -> Result<R, String> + Sync,

@@ -42,6 +42,7 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
             damping_path: super::damping_path::DampingPathUse::Never,
         },
         candidates: vec![Cause::None, Cause::PerimeterPounding],
+        linear_stage: false,
     }
 }
 

@@ -115,28 +115,49 @@ impl Evaluation<'_> {
 
     /// The FE parameter values `theta` (prior order) sets, in the order
     /// they are set (`damping_ratio` and `damping_mass_share` included,
-    /// under those names).
+    /// under those names), after the bundle's held linear form
+    /// ([`Bundle::linear_form`]) for every name `theta` does not set.
     pub fn assignments(&self, theta: &[f64]) -> Vec<(&'static str, f64)> {
-        let named: Vec<(&str, f64)> =
-            self.priors.iter().map(|p| p.name).zip(theta.iter().copied()).collect();
+        let held = self.held();
+        let named: Vec<(&str, f64)> = (held.iter().copied())
+            .chain(self.priors.iter().map(|p| p.name).zip(theta.iter().copied()))
+            .collect();
         let demand = self.demand.unwrap_or(Demand {
             perimeter_mm: 1.0,
             perimeter_n: 1.0,
             connection_n: 1.0,
             nominal_gap_mm: 1.0,
         });
-        let mut out = Vec::new();
+        let mut own = Vec::new();
         for (p, v) in self.priors.iter().zip(theta) {
             if let Some(name) = solver_parameter(p.name) {
-                out.push((name, *v));
+                own.push((name, *v));
             } else {
-                out.extend(model_parameters(p, *v, &named, &demand));
+                own.extend(model_parameters(p, *v, &named, &demand));
             }
         }
         if self.committed_share > 0.0 {
-            out.push((DAMPING_COMMITTED_SHARE, self.committed_share));
+            own.push((DAMPING_COMMITTED_SHARE, self.committed_share));
         }
+        let mut out: Vec<(&'static str, f64)> =
+            held.into_iter().filter(|(n, _)| !own.iter().any(|(m, _)| m == n)).collect();
+        out.extend(own);
         out
+    }
+
+    /// The bundle's held linear form ([`Bundle::linear_form`]) as far as
+    /// the variant's model uses it (a joint spring of the elastic
+    /// connections, say, is not a parameter of Pinching4 connections, which
+    /// take their stiffness from it through [`model_parameters`]).
+    fn held(&self) -> Vec<(&'static str, f64)> {
+        if self.bundle.linear_form.is_empty() {
+            return vec![];
+        }
+        let used = self.fe_spec().map(|s| fe::generator::parameters_for(&s)).unwrap_or_default();
+        (self.bundle.linear_form.iter())
+            .filter(|(n, _)| solver_parameter(n).is_some() || used.iter().any(|p| p.name == *n))
+            .copied()
+            .collect()
     }
 
     /// The FE parameters and simulation options at `theta` (prior order).

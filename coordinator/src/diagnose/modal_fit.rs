@@ -11,8 +11,25 @@
 
 use super::fit::Evaluation;
 use crate::bundle::ModalEntry;
-use fe::eigen::{modal_analysis, LanczosSettings};
+use fe::eigen::{horizontal_share, modal_analysis, LanczosSettings};
 use fe::generator::generate;
+
+/// Least share of a mode's kinetic energy in x and y for it to count as
+/// one a shaking table identifies: its horizontal sensors see a mode that
+/// moves mostly sideways, and number the modes they see, so a vertical
+/// mode of the model takes no number.
+pub const SWAY_SHARE: f64 = 0.5;
+
+/// The frequencies of the modes whose horizontal share is at least
+/// [`SWAY_SHARE`], in order.
+pub fn sway_modes(freq_hz: &[f64], horizontal_share: &[f64]) -> Vec<f64> {
+    freq_hz
+        .iter()
+        .zip(horizontal_share)
+        .filter(|(_, s)| **s >= SWAY_SHARE)
+        .map(|(f, _)| *f)
+        .collect()
+}
 
 /// Highest mode number used: the model's lowest modes are the ones a
 /// shaking table identifies; higher entries of the table are left out.
@@ -48,6 +65,11 @@ impl ModalFit {
             .zip(&self.lab_var_hz2)
             .map(|(r, v)| r / total_var(*v, self.discrepancy_var_hz2).sqrt())
             .collect()
+    }
+
+    /// Each mode's standard deviation (Hz): the lab's and the discrepancy's.
+    pub fn sd_hz(&self) -> Vec<f64> {
+        self.lab_var_hz2.iter().map(|v| total_var(*v, self.discrepancy_var_hz2).sqrt()).collect()
     }
 
     /// Model minus measured frequency of each mode (Hz).
@@ -166,13 +188,19 @@ impl Evaluation<'_> {
         }))
     }
 
-    /// The model's lowest `n` frequencies at `theta` (Hz).
+    /// The model's lowest `n` sway frequencies at `theta` (Hz): of the
+    /// lowest 2n + 4 modes, those that [`sway_modes`] keeps.
     fn model_frequencies(&self, theta: &[f64], n: usize) -> Result<Vec<f64>, String> {
         let (spec, params, _) = self.setup(theta)?;
         let model = generate(&spec, &params).map_err(|e| e.to_string())?;
-        let (_, modal) = modal_analysis(&model, n.max(2), &LanczosSettings::default())
+        let mass_dofs: usize =
+            model.masses.iter().map(|m| m.m_t.iter().filter(|v| **v > 0.0).count()).sum();
+        let wanted = (2 * n + 4).min(mass_dofs).max(n.max(2));
+        let (s, modal) = modal_analysis(&model, wanted, &LanczosSettings::default())
             .map_err(|e| format!("modal analysis: {e}"))?;
-        Ok(modal.freq_hz)
+        let mut f = sway_modes(&modal.freq_hz, &horizontal_share(&s, &modal));
+        f.truncate(n);
+        Ok(f)
     }
 }
 

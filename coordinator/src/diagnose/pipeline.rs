@@ -19,6 +19,7 @@ use super::fit::{
     effective_sizes, mean_excess_nrmse, mean_nrmse, ChannelFit, Evaluation, Simulated,
 };
 use super::linear_part::{self, calibrate_linear_part};
+use super::linear_stage::{self, LinearStage};
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
 use super::modal_fit::ModalFit;
 use super::posterior::VariationalPosterior;
@@ -34,11 +35,18 @@ pub struct DiagnoseOptions {
     pub budget: Budget,
     /// Variants tried (the baseline is always tried).
     pub candidates: Vec<Cause>,
+    /// Whether the linear stage ([`super::linear_stage`]) fits the
+    /// specimen's linear form first (on a single-layer ceiling).
+    pub linear_stage: bool,
 }
 
 impl Default for DiagnoseOptions {
     fn default() -> Self {
-        DiagnoseOptions { budget: Budget::default(), candidates: Cause::ALL.to_vec() }
+        DiagnoseOptions {
+            budget: Budget::default(),
+            candidates: Cause::ALL.to_vec(),
+            linear_stage: true,
+        }
     }
 }
 
@@ -170,6 +178,9 @@ pub struct Diagnosis {
     /// The extension the MDL chose but the validation runs did not confirm
     /// ([`confirmed`]): the baseline is named in its place.
     pub unconfirmed: Option<Cause>,
+    /// The linear stage's fit of the specimen's linear form, which every
+    /// variant held (None: the stage did not run).
+    pub linear: Option<LinearStage>,
 }
 
 /// Splits runs by role; without roles, the strongest run validates.
@@ -241,6 +252,15 @@ pub fn diagnose_with(
     progress: &mut dyn FnMut(&str, usize, usize),
 ) -> Result<Diagnosis, DiagnoseError> {
     let (cal_runs, val_runs) = split_runs(b);
+    let linear = fit_linear_form(b, &cal_runs, opts, progress)?;
+    let held;
+    let b = match &linear {
+        Some(stage) => {
+            held = Bundle { linear_form: stage.held(), ..b.clone() };
+            &held
+        }
+        None => b,
+    };
     let n_eff0 = midpoint_weights(b, &cal_runs, exec)?;
     let mut v = calibrate_variants(b, &cal_runs, &n_eff0, opts, exec, progress)?;
     let n_eff = v.baseline_weights()?;
@@ -277,7 +297,27 @@ pub fn diagnose_with(
     let mut d = conclude(b, results, pick, (cal_runs, val_runs));
     d.channels = v.channels;
     d.unconfirmed = (pick != by_mdl).then(|| d.candidates[by_mdl].cause);
+    d.linear = linear;
     Ok(d)
+}
+
+/// The linear stage on the calibration runs, when the options ask for it
+/// and it applies to the bundle ([`linear_stage::applies`]).
+fn fit_linear_form(
+    b: &Bundle,
+    cal_runs: &[usize],
+    opts: &DiagnoseOptions,
+    progress: &mut dyn FnMut(&str, usize, usize),
+) -> Result<Option<LinearStage>, DiagnoseError> {
+    if !opts.linear_stage || !linear_stage::applies(b) {
+        return Ok(None);
+    }
+    let stage = "linear stage (modal superposition)";
+    let (threads, seed) = (opts.budget.threads, opts.budget.seed);
+    let fit =
+        linear_stage::linear_stage(b, cal_runs, threads, seed, &mut |d, n| progress(stage, d, n))
+            .map_err(DiagnoseError::Model)?;
+    Ok(Some(fit))
 }
 
 /// Every calibrated variant, the baseline first.
@@ -434,7 +474,7 @@ fn calibrate_baseline(
         } else {
             "calibrating none (baseline)"
         };
-        let priors = baseline_priors(channels);
+        let priors = baseline_priors(&b.linear_form, channels);
         let mut cal = calibrate(
             b,
             (Cause::None, &priors),
@@ -552,6 +592,7 @@ fn conclude(
         gain: if pick == 0 { 0.0 } else { 1.0 - ext / base },
         channels: None,
         unconfirmed: None,
+        linear: None,
     }
 }
 
@@ -807,7 +848,7 @@ fn midpoint_weights(
     runs: &[usize],
     exec: &mut dyn FeExecutor,
 ) -> Result<Vec<f64>, DiagnoseError> {
-    let priors = Cause::None.priors();
+    let priors = baseline_priors(&b.linear_form, false);
     let ev = Evaluation::baseline(b, &priors, runs);
     let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
     let sims = one(exec.simulate(&ev, &[theta])?).map_err(DiagnoseError::Model)?;

@@ -1,4 +1,5 @@
-//! `report.html` of a diagnosis: the verdict, the specimen, the symptoms
+//! `report.html` of a diagnosis: the linear fit of the specimen
+//! ([`super::report_linear`]), the verdict, the specimen, the symptoms
 //! (table and plots, [`super::report_symptoms`]), the model comparison (MDL
 //! table and chart), the chosen model's calibrated parameters and posterior
 //! ([`super::report_posterior`]), and measured
@@ -10,6 +11,7 @@ use super::damping_form::FORM_NATS;
 use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated, DAMPING_MASS_SHARE};
 use super::pipeline::{CandidateResult, Diagnosis, LINEAR_PART_NATS, MISFIT_NATS, TIE_NATS};
+use super::report_linear::linear_section;
 use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
 use super::resample::Decimated;
@@ -43,6 +45,7 @@ pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence, resampled: &[Decimated]) 
             d.fe_points
         ),
         sections: vec![
+            linear_section(b, d),
             verdict_section(b, d),
             specimen_section(b, &telling, resampled),
             symptoms_section(e),

@@ -145,7 +145,13 @@ pub fn pounding_diagnosis(
             sensors,
         })
         .collect();
-    let bundle = Bundle { dir: "sdof-campaign".into(), manifest, runs: data, modal: None };
+    let bundle = Bundle {
+        dir: "sdof-campaign".into(),
+        manifest,
+        runs: data,
+        modal: None,
+        linear_form: Vec::new(),
+    };
     (bundle, sdof_diagnosis(pounding, &base, &ext))
 }
 
@@ -232,6 +238,7 @@ fn sdof_diagnosis(
         fe_points: 0,
         channels: None,
         unconfirmed: None,
+        linear: None,
     }
 }
 

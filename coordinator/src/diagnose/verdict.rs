@@ -4,6 +4,7 @@
 //! symptoms (an extra field, which the format allows).
 
 use super::evidence::{Evidence, Reading};
+use super::linear_stage::report::LinearJson;
 use super::pipeline::Diagnosis;
 use serde::Serialize;
 
@@ -177,6 +178,10 @@ pub struct VerdictJson {
     /// carrying channels (an extra field, which the format allows).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub baseline_channels: Option<ChannelsJson>,
+    /// The linear stage's fit of the specimen's linear form, which every
+    /// model held (an extra field, which the format allows).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear_stage: Option<LinearJson>,
     /// The symptoms, when given ([`VerdictJson::with_symptoms`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub symptoms: Vec<SymptomJson>,
@@ -289,6 +294,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
             mdl_without: f.mdl_without,
             mdl_with: f.mdl_with,
         }),
+        linear_stage: d.linear.as_ref().map(|l| LinearJson::of(run_ids, l)),
         symptoms: vec![],
     }
 }

@@ -453,6 +453,7 @@ fn assemble(spec: &SynthSpec, runs: Runs, modal: Option<Vec<ModalEntry>>) -> Bun
         },
         runs: data,
         modal,
+        linear_form: Vec::new(),
     }
 }
 

@@ -1,0 +1,171 @@
+//! One point of the linear stage: the baseline's linear model with the
+//! linear-form parameters at a unit-cube point, every linear run simulated
+//! by modal superposition ([`fe::ceiling::simulate_linear_runs`]: one eigen
+//! solution per point, milliseconds per run), judged against the measured
+//! runs (the channel fits of [`Evaluation::fits`]) and `modal.csv`
+//! ([`modal_fit`]).
+
+use crate::bundle::Bundle;
+use crate::diagnose::cause::Prior;
+use crate::diagnose::fit::{measured_sensors, neg_log_lik, ChannelFit, Evaluation, Simulated};
+use crate::diagnose::modal_fit::{modal_fit, sway_modes, usable, ModalFit};
+use crate::specimen::{base_input, fe_sensor, to_bundle_units};
+use fe::ceiling::{simulate_linear_runs, BaseInput, Sensor};
+
+/// The modes superposed: enough that the modes left out respond
+/// quasi-statically to inputs below 20 Hz on the ceilings of a lab's table
+/// (the forty lowest of a 2.4 m x 3.6 m grid reach 60 Hz; `fe`'s test
+/// `the_lowest_forty_modes_miss_little` measures what they leave out), at
+/// most as many as the model has DOFs with mass.
+pub const MODES: usize = 40;
+
+/// The linear model of a bundle on its linear runs.
+pub struct LinearModel<'a> {
+    /// The bundle.
+    pub bundle: &'a Bundle,
+    /// The runs taken as linear (bundle indices).
+    pub runs: Vec<usize>,
+    /// The parameters and their priors.
+    pub priors: Vec<Prior>,
+}
+
+/// What one point gives: the channel fits and residuals of the linear runs
+/// and the modal fit.
+#[derive(Debug, Clone)]
+pub struct Judged {
+    /// One fit per (run, measured sensor), in [`Evaluation::fits`] order.
+    pub channels: Vec<ChannelFit>,
+    /// Each channel's residual (simulated − measured; NaN where missing).
+    pub residuals: Vec<Vec<f64>>,
+    /// The frequencies against `modal.csv` (None: the bundle has none).
+    pub modal: Option<ModalFit>,
+    /// Every superposed mode's frequency (Hz), sway and vertical.
+    pub modes_hz: Vec<f64>,
+    /// Each superposed mode's damping ratio.
+    pub modal_damping: Vec<f64>,
+}
+
+impl Judged {
+    /// −log L under channel weights `n_eff`, the frequencies included.
+    pub fn neg_log_lik(&self, n_eff: &[f64]) -> f64 {
+        neg_log_lik(&self.channels, n_eff) + self.modal.as_ref().map_or(0.0, |m| m.neg_log_lik)
+    }
+}
+
+impl LinearModel<'_> {
+    /// The baseline's evaluation with these priors on the linear runs (its
+    /// setup maps a point to FE parameters and solver options).
+    pub fn evaluation(&self) -> Evaluation<'_> {
+        Evaluation::baseline(self.bundle, &self.priors, &self.runs)
+    }
+
+    /// Physical values of unit-cube point `u`.
+    pub fn theta(&self, u: &[f64]) -> Vec<f64> {
+        u.iter().zip(&self.priors).map(|(u, p)| p.at(*u)).collect()
+    }
+
+    /// The linear runs simulated at `u` (bundle units) with the modes.
+    pub fn simulate(&self, u: &[f64]) -> Result<(Vec<Simulated>, Judged), String> {
+        let ev = self.evaluation();
+        let (spec, params, opts) = ev.setup(&self.theta(u))?;
+        let inputs: Vec<(BaseInput, Vec<Sensor>)> = self
+            .runs
+            .iter()
+            .map(|&k| {
+                let run = &self.bundle.runs[k];
+                let sensors = measured_sensors(self.bundle, run);
+                (base_input(run), sensors.iter().map(fe_sensor).collect())
+            })
+            .collect();
+        let refs: Vec<(&BaseInput, &[Sensor])> =
+            inputs.iter().map(|(i, s)| (i, s.as_slice())).collect();
+        let lins = simulate_linear_runs(&spec, &params, &refs, &opts, MODES)
+            .map_err(|e| format!("linear model: {e}"))?;
+        let sims: Vec<Simulated> = self
+            .runs
+            .iter()
+            .zip(&lins)
+            .map(|(&k, lin)| {
+                let sensors = measured_sensors(self.bundle, &self.bundle.runs[k]);
+                sensors
+                    .iter()
+                    .zip(&lin.simulation.sensors)
+                    .map(|(s, h)| {
+                        let f = to_bundle_units(s.kind);
+                        (s.id.clone(), h.values.iter().map(|v| v * f).collect())
+                    })
+                    .collect()
+            })
+            .collect();
+        let first = lins.first().ok_or("no linear run")?;
+        let (modes_hz, modal_damping) = (first.modes_hz.clone(), first.modal_damping.clone());
+        let (channels, residuals) = ev.fits(&sims);
+        let modal = self.modal(&sway_modes(&modes_hz, &first.horizontal_share))?;
+        Ok((sims, Judged { channels, residuals, modal, modes_hz, modal_damping }))
+    }
+
+    /// [`simulate`](Self::simulate) without the histories.
+    pub fn judge(&self, u: &[f64]) -> Result<Judged, String> {
+        self.simulate(u).map(|(_, j)| j)
+    }
+
+    /// The frequencies alone at `u` (one eigen solution, no run): a
+    /// [`Judged`] without channels; an error without `modal.csv`.
+    pub fn judge_modal(&self, u: &[f64]) -> Result<Judged, String> {
+        let m =
+            self.evaluation().modal_fit(&self.theta(u)).ok_or("the bundle has no modal.csv")??;
+        let modes_hz = m.model_hz.clone();
+        Ok(Judged {
+            channels: vec![],
+            residuals: vec![],
+            modal: Some(m),
+            modes_hz,
+            modal_damping: vec![],
+        })
+    }
+
+    /// The fit of `modes_hz` to `modal.csv` (None without one).
+    fn modal(&self, modes_hz: &[f64]) -> Result<Option<ModalFit>, String> {
+        let Some(entries) = self.bundle.modal.as_deref() else { return Ok(None) };
+        if usable(entries).is_empty() {
+            return Ok(None);
+        }
+        modal_fit(entries, modes_hz)
+            .map(Some)
+            .ok_or_else(|| format!("the linear model has {} modes: too few", modes_hz.len()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::farm_executor_tests::tiny_bundle;
+    use crate::diagnose::linear_stage::LINEAR_PRIORS;
+
+    /// At any point the modal superposition gives the FE transient's
+    /// histories on the same linear model (to the modes it leaves out).
+    #[test]
+    fn the_linear_model_is_the_baselines_fe_model() {
+        let tmp = tempfile::tempdir().unwrap();
+        let b = tiny_bundle(tmp.path());
+        let runs: Vec<usize> = (0..b.runs.len()).collect();
+        let model = LinearModel { bundle: &b, runs: runs.clone(), priors: LINEAR_PRIORS.to_vec() };
+        for u in [
+            vec![0.5; LINEAR_PRIORS.len()],
+            vec![0.2, 0.9, 0.3, 0.7, 0.4, 0.6, 0.5, 0.8, 0.1, 0.3, 0.6],
+        ] {
+            let (sims, _) = model.simulate(&u).unwrap();
+            let fe = model.evaluation().simulate(&model.theta(&u)).unwrap();
+            for (run_l, run_f) in sims.iter().zip(&fe) {
+                for ((id, l), (_, f)) in run_l.iter().zip(run_f) {
+                    let rms =
+                        |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+                    let diff: Vec<f64> = l.iter().zip(f).map(|(a, b)| a - b).collect();
+                    // A sensor across an unshaken direction reads round-off.
+                    let e = rms(&diff) / rms(f).max(1e-6);
+                    assert!(e < 1e-4, "sensor {id} at {u:?}: relative RMS difference {e}");
+                }
+            }
+        }
+    }
+}

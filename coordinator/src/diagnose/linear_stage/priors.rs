@@ -1,0 +1,57 @@
+//! The linear stage's parameters: everything that moves a ceiling's linear
+//! response that the baseline otherwise holds at the generator's form, with
+//! uniform priors (log-uniform for stiffnesses and factors spanning decades).
+//! Each range is set by what a built specimen can be, not by any campaign:
+//!
+//! - `K_friction` 3–150 N/mm: the grid end's support along its axis; Table
+//!   6.1's 15–25 N/mm, five times wider each way (a clip with play, an end
+//!   resting on the angle, a screwed clip);
+//! - `K_across` 10–10 000 N/mm: across the axis, from an end held only by
+//!   friction on the angle to the generator's rigid restraint;
+//! - `panel_mass_factor` 0.8–1.2: the panels' weight scatters ±20 % about
+//!   the bundle's nominal (moisture, fixtures, another tile);
+//! - `member_mass_factor` 0–1.5: from massless members (the seed's models)
+//!   to sections half again as heavy as seed-facts' tees and rods;
+//! - `rod_bending_factor` 0.1–2: a rod pinned at the tee (0.25 of the fixed
+//!   rod's sway stiffness), one bent or longer, to a stiffer hanger;
+//! - `K_cc1` 100–100 000 N/mm, `K_cc2` 10–100 000 N/mm: the tee joints'
+//!   axial and in-plane transverse springs (Table 6.1: 750–850 and 75–125
+//!   N/mm for the seed's CJS-A joints), from a joint that gives ten times
+//!   more to one that is as stiff as the tees themselves (a 0.6 m tee's
+//!   EA/L is about 11 000 N/mm: tabs riveted or locked tight);
+//! - `grid_bending_factor` 0.3–3: the members' bending inertias over
+//!   Table 4.4's sections (another profile, a tee that is not straight);
+//! - `K_joint_rot` 1e3–1e10 N·mm/rad: the tee joints' turn in the plane,
+//!   from a tab that pivots in its slot to a thousand times the main tee's
+//!   own 4EI/L over a module (1.05e7; the frequencies then differ from a
+//!   continuous grid's by about 1e-3);
+//! - `damping_ratio` 0.5–15 %: bare steel grids to panels rubbing;
+//! - `damping_mass_share` 0–1: the Rayleigh pair's split
+//!   ([`super::super::damping_share`]).
+
+use crate::diagnose::cause::Prior;
+
+const fn prior(name: &'static str, unit: &'static str, low: f64, high: f64, log: bool) -> Prior {
+    Prior { name, unit, low, high, log, reference: None }
+}
+
+/// The linear stage's parameters and priors (see the module documentation).
+pub const LINEAR_PRIORS: [Prior; 11] = [
+    prior("K_friction", "N/mm", 3.0, 150.0, true),
+    prior("K_across", "N/mm", 10.0, 1.0e4, true),
+    prior("panel_mass_factor", "-", 0.8, 1.2, false),
+    prior("member_mass_factor", "-", 0.0, 1.5, false),
+    prior("rod_bending_factor", "-", 0.1, 2.0, true),
+    prior("K_cc1", "N/mm", 100.0, 1.0e5, true),
+    prior("K_cc2", "N/mm", 10.0, 1.0e5, true),
+    prior("grid_bending_factor", "-", 0.3, 3.0, true),
+    prior("K_joint_rot", "N*mm/rad", 1.0e3, 1.0e10, true),
+    prior("damping_ratio", "-", 0.005, 0.15, true),
+    prior("damping_mass_share", "-", 0.0, 1.0, false),
+];
+
+/// The nominal specimen in [`LINEAR_PRIORS`]' order: the seed's values
+/// (Table 6.1's mid-points, the rigid restraint across, seed-facts'
+/// member masses, the M8 rod fixed at both ends, continuous joints, 5 %
+/// damping split evenly), the first start of the linear stage's search.
+pub const NOMINAL: [f64; 11] = [20.0, 1.0e4, 1.0, 1.0, 1.0, 800.0, 100.0, 1.0, 1.0e10, 0.05, 0.5];
