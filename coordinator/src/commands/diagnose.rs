@@ -80,6 +80,10 @@ pub struct Args {
     /// `modal.csv` and write it to OUT/linear.json.
     #[arg(long)]
     pub linear_only: bool,
+    /// With --linear-only: no search, the linear model at these values
+    /// (NAME=VALUE, comma-separated; the others at the nominal specimen).
+    #[arg(long, requires = "linear_only", value_delimiter = ',')]
+    pub linear_at: Vec<String>,
 }
 
 /// Runs `diagnose`.
@@ -108,7 +112,8 @@ pub fn run(a: Args) -> Result<()> {
     }
     let opts = DiagnoseOptions { budget, linear_stage: !a.no_linear_stage, ..Default::default() };
     if a.linear_only {
-        return linear_only(&a.bundle, &a.out, &opts, (rate > 0.0).then_some(rate));
+        let at = parse_values(&a.linear_at)?;
+        return linear_only(&a.bundle, &a.out, &opts, (rate > 0.0).then_some(rate), &at);
     }
     let report =
         diagnose_dir(&a.bundle, &a.out, &opts, (rate > 0.0).then_some(rate), &plan, a.farm.quiet)?;
@@ -118,15 +123,25 @@ pub fn run(a: Args) -> Result<()> {
 
 /// The linear stage alone on the bundle in `dir`: prints its fit and writes
 /// `out/linear.json`.
-fn linear_only(dir: &Path, out: &Path, opts: &DiagnoseOptions, rate: Option<f64>) -> Result<()> {
-    use coordinator::diagnose::linear_stage::{linear_stage, report::LinearJson};
+fn linear_only(
+    dir: &Path,
+    out: &Path,
+    opts: &DiagnoseOptions,
+    rate: Option<f64>,
+    at: &[(String, f64)],
+) -> Result<()> {
+    use coordinator::diagnose::linear_stage::{linear_at, linear_stage, report::LinearJson};
     let (bundle, _) = read_for_simulation(dir, rate)?;
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let (cal, _) = coordinator::diagnose::pipeline::split_runs(&bundle);
     let start = std::time::Instant::now();
     let (threads, seed) = (opts.budget.threads, opts.budget.seed);
-    let stage = linear_stage(&bundle, &cal, threads, seed, &mut |_, _| {})
-        .map_err(|e| anyhow::anyhow!(e))?;
+    let stage = if at.is_empty() {
+        linear_stage(&bundle, &cal, threads, seed, &mut |_, _| {})
+    } else {
+        linear_at(&bundle, &cal, at)
+    }
+    .map_err(|e| anyhow::anyhow!(e))?;
     let ids: Vec<String> = bundle.manifest.runs.iter().map(|r| r.id.clone()).collect();
     let json = LinearJson::of(&ids, &stage);
     eprint!("{}", json.summary());
@@ -135,6 +150,23 @@ fn linear_only(dir: &Path, out: &Path, opts: &DiagnoseOptions, rate: Option<f64>
     std::fs::write(&path, serde_json::to_string_pretty(&json)?)
         .with_context(|| format!("writing {}", path.display()))?;
     Ok(())
+}
+
+/// `NAME=VALUE` pairs, each value a number.
+fn parse_values(items: &[String]) -> Result<Vec<(String, f64)>> {
+    items
+        .iter()
+        .map(|t| {
+            let (n, v) = t
+                .split_once('=')
+                .with_context(|| format!("--linear-at {t}: expected NAME=VALUE"))?;
+            let v: f64 = v
+                .trim()
+                .parse()
+                .with_context(|| format!("--linear-at {t}: {v:?} is not a number"))?;
+            Ok((n.trim().to_string(), v))
+        })
+        .collect()
 }
 
 /// Diagnoses the bundle in `dir` on the farm of `plan`, its runs recorded

@@ -216,6 +216,36 @@ fn design(n: usize, d: usize, seed: u64) -> Vec<Vec<f64>> {
     (0..design.n()).map(|i| design.row(i).to_vec()).collect()
 }
 
+/// The linear model at the physical values `values` (by name; the others
+/// at [`NOMINAL`]) on the linear runs of `cal_runs`, without a search: what
+/// a given linear form explains. Err for an unknown name or a value
+/// outside its prior.
+pub fn linear_at(
+    b: &Bundle,
+    cal_runs: &[usize],
+    values: &[(String, f64)],
+) -> Result<LinearStage, String> {
+    let priors = LINEAR_PRIORS.to_vec();
+    let mut theta = NOMINAL.to_vec();
+    for (name, v) in values {
+        let k = priors.iter().position(|p| p.name == name).ok_or_else(|| {
+            let known: Vec<&str> = priors.iter().map(|p| p.name).collect();
+            format!("{name}: not a parameter of the linear stage (known: {})", known.join(", "))
+        })?;
+        let p = &priors[k];
+        if !(*v >= p.low && *v <= p.high) {
+            return Err(format!("{name} = {v}: expected {} to {} {}", p.low, p.high, p.unit));
+        }
+        theta[k] = *v;
+    }
+    let model = LinearModel { bundle: b, runs: linear_runs(b, cal_runs), priors };
+    let u: Vec<f64> = model.priors.iter().zip(&theta).map(|(p, v)| p.unit(*v)).collect();
+    let judged = model.judge(&u)?;
+    let n_eff = effective_sizes(&judged.channels);
+    let f = judged.neg_log_lik(&n_eff);
+    conclude(&model, Located { u, f, judged, gauss_newton: None }, n_eff, 0)
+}
+
 /// The stage's outcome at the point `at`.
 fn conclude(
     model: &LinearModel<'_>,

@@ -168,13 +168,28 @@ fn rows(j: &Judged, c: &Judged, n_eff: &[f64]) -> Vec<f64> {
     out
 }
 
-/// u + δ clamped to the cube, (H + λ diag H + ε I) δ = −g.
+/// u + δ clamped to the cube, (H + λ diag H + ε I) δ = −g on the free
+/// dimensions: a dimension on a face of the cube whose gradient pushes out
+/// of it stays where it is (the active set of a bounded search), so that
+/// the step along the others is not spoilt by a clamp.
 fn step(u: &[f64], c: &Centre, lambda: f64) -> Vec<f64> {
     let d = u.len();
-    let mut a = c.h.clone();
-    for i in 0..d {
-        a[(i, i)] += lambda * c.h[(i, i)].max(1e-12) + 1e-12;
+    let pinned = |i: usize| (u[i] <= 0.0 && c.g[i] > 0.0) || (u[i] >= 1.0 && c.g[i] < 0.0);
+    let free: Vec<usize> = (0..d).filter(|i| !pinned(*i)).collect();
+    let n = free.len();
+    let mut a = DMatrix::zeros(n, n);
+    let mut rhs = DVector::zeros(n);
+    for (r, &i) in free.iter().enumerate() {
+        rhs[r] = -c.g[i];
+        for (k, &j) in free.iter().enumerate() {
+            a[(r, k)] = c.h[(i, j)];
+        }
+        a[(r, r)] += lambda * c.h[(i, i)].max(1e-12) + 1e-12;
     }
-    let delta = a.lu().solve(&(-&c.g)).unwrap_or_else(|| DVector::zeros(d));
-    u.iter().zip(delta.iter()).map(|(x, dx)| (x + dx).clamp(0.0, 1.0)).collect()
+    let delta = a.lu().solve(&rhs).unwrap_or_else(|| DVector::zeros(n));
+    let mut out = u.to_vec();
+    for (r, &i) in free.iter().enumerate() {
+        out[i] = (u[i] + delta[r]).clamp(0.0, 1.0);
+    }
+    out
 }
