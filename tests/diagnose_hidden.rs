@@ -61,6 +61,7 @@ fn diagnosis(text: &str, label: &str, seed: u64) -> Diagnosis {
         );
     }
     baseline_fits_where_no_extension_engages(&d);
+    assert!(d.unexplained.is_none(), "{label} seed {seed}: {:?}", d.unexplained);
     d
 }
 

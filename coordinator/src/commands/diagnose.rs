@@ -249,20 +249,18 @@ fn write_diagnosis(
     Ok((v, report))
 }
 
-/// Prints the cause named and any warning: an extension set aside as unconfirmed, or runs
-/// left unexplained.
+/// Prints the cause named and any warning: an extension the validation runs barely
+/// exercise, or runs left unexplained.
 fn print_verdict(v: &VerdictJson, d: &Diagnosis) {
     eprintln!(
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",
         v.cause, v.gain, v.baseline_validation_error, v.extended_validation_error, v.fe_points
     );
-    if let Some(c) = d.unconfirmed {
-        eprintln!(
-            "warning: {} fits the calibration runs better, but predicts the validation runs no \
-             better than the baseline: the cause is not confirmed and the baseline is named \
-             (see the report's verdict)",
-            c.as_str()
-        );
+    if let Some(u) = &d.unexplained {
+        eprintln!("warning: unexplained: no model explains the data within the noise:");
+        for line in u.lines() {
+            eprintln!("  {line}");
+        }
     }
     if coordinator::diagnose::verdict_notes::unexercised_note(d).is_some() {
         eprintln!(

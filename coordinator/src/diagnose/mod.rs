@@ -40,6 +40,7 @@ pub mod ridge;
 pub mod spectrogram;
 pub mod spectrum;
 pub mod symptoms;
+pub mod unexplained;
 pub mod verdict;
 pub mod verdict_notes;
 

@@ -16,7 +16,9 @@ use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
 use super::resample::Decimated;
 use super::symptoms::{half_cycle_peaks, rms};
-use super::verdict_notes::{reach_note, unconfirmed_note, unexercised_note, unexplained_note};
+use super::unexplained::{Unexplained, EXPLAINED_ERROR};
+use super::verdict::UNEXPLAINED;
+use super::verdict_notes::{reach_note, unexercised_note, unexplained_note};
 use crate::bundle::{Bundle, RunData, SensorKind};
 use crate::report::{
     bar_chart, line_plot, plan_svg, BarChart, BarGroup, Block, LinePlot, NoteKind, Page,
@@ -36,17 +38,22 @@ pub(super) fn num(v: f64) -> String {
 /// ([`super::evidence::evidence`]).
 pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence, resampled: &[Decimated]) -> String {
     let telling = telling_channels(b, d);
+    let cause = if d.unexplained.is_some() { UNEXPLAINED } else { d.cause.as_str() };
+    // An unexplained verdict leads; otherwise the linear fit comes first.
+    let (first, second) = if d.unexplained.is_some() {
+        (verdict_section(b, d), linear_section(b, d))
+    } else {
+        (linear_section(b, d), verdict_section(b, d))
+    };
     let page = Page {
         title: format!("Diagnosis of {}", b.manifest.name),
         subtitle: format!(
-            "cause: {} · gain on the validation runs {:.3} · {} FE parameter points",
-            d.cause.as_str(),
-            d.gain,
-            d.fe_points
+            "cause: {cause} · gain on the validation runs {:.3} · {} FE parameter points",
+            d.gain, d.fe_points
         ),
         sections: vec![
-            linear_section(b, d),
-            verdict_section(b, d),
+            first,
+            second,
             specimen_section(b, &telling, resampled),
             symptoms_section(e),
             comparison_section(d),
@@ -60,19 +67,20 @@ pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence, resampled: &[Decimated]) 
 
 fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
     let chosen = d.candidates.iter().find(|c| c.selected);
-    let mut blocks = vec![Block::KeyValues(vec![
+    let mut blocks: Vec<Block> = d.unexplained.iter().map(unexplained_block).collect();
+    blocks.push(Block::KeyValues(vec![
         ("cause".into(), d.cause.as_str().into()),
         ("what it means".into(), d.cause.explain().into()),
         ("baseline validation error".into(), num(d.baseline_validation_error)),
         ("extended validation error".into(), num(d.extended_validation_error)),
         ("gain (1 − extended / baseline)".into(), num(d.gain)),
-    ])];
+    ]));
     if let Some(c) = chosen {
         blocks.push(Block::Paragraph(format!(
             "Every candidate model was calibrated on the calibration runs and scored by its \
              minimum description length; {} is chosen ({:.1} nats). The lowest MDL is chosen, \
-             where an extension must beat the baseline by {MISFIT_NATS} nats and predict the \
-             validation runs better than it{}. Validation errors are \
+             where an extension must beat the baseline by {MISFIT_NATS} nats; the validation \
+             runs measure the verdict and never choose it. Validation errors are \
              the mean over the sensors of the validation runs of the normalised RMS error in \
              excess of the sensor noise, √max(MSE − σ², 0) / √(MS − σ²) (MSE of simulated − \
              measured, MS of measured), 0 for a model that misses by the noise alone, each \
@@ -82,16 +90,10 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
              candidate models. Raw NRMSE (noise included): baseline {}, extended {}.",
             c.cause.as_str(),
             c.mdl.as_ref().map_or(f64::NAN, |m| m.total),
-            if d.unconfirmed.is_some() {
-                " (the extension of lowest MDL did not: see below)"
-            } else {
-                ""
-            },
             num(d.candidates[0].validation_nrmse),
             num(c.validation_nrmse),
         )));
     }
-    blocks.extend(unconfirmed_note(d));
     blocks.extend(unexercised_note(d));
     blocks.extend(reach_note(b, d));
     blocks.extend(unexplained_note(d));
@@ -103,6 +105,20 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
         });
     }
     Section { id: "verdict".into(), heading: "Verdict".into(), blocks }
+}
+
+/// The warning that leads an unexplained verdict: what is missed, by how much.
+fn unexplained_block(u: &Unexplained) -> Block {
+    Block::Note {
+        kind: NoteKind::Warning,
+        text: format!(
+            "Unexplained: the data show something no model here explains. The model of lowest \
+             MDL is reported below, but a model explains a channel only when it misses it by \
+             at most {:.0} % of the signal beyond the noise, and here: {}.",
+            100.0 * EXPLAINED_ERROR,
+            u.lines().join("; ")
+        ),
+    }
 }
 
 fn specimen_section(b: &Bundle, telling: &[(usize, String)], resampled: &[Decimated]) -> Section {

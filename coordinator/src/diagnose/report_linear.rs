@@ -8,6 +8,7 @@ use super::linear_stage::report::LinearJson;
 use super::linear_stage::LinearStage;
 use super::pipeline::Diagnosis;
 use super::spectrum::transfer_h1;
+use super::unexplained::{channel_misses, Where, EXPLAINED_ERROR};
 use crate::bundle::{Bundle, Direction};
 use crate::report::{
     line_plot, Block, LinePlot, NoteKind, PlotSize, Section, Series, SeriesStyle, Table,
@@ -47,6 +48,24 @@ fn linear_blocks(b: &Bundle, stage: &LinearStage) -> Vec<Block> {
         j.evaluations,
         j.nrmse
     ))];
+    let misses = channel_misses(stage.channels(), None, Where::LinearRun);
+    if !misses.is_empty() {
+        let list: Vec<String> = misses
+            .iter()
+            .map(|m| format!("{} {} ({:.0} %)", m.run, m.sensor, 100.0 * m.excess_error))
+            .collect();
+        blocks.push(Block::Note {
+            kind: NoteKind::Warning,
+            text: format!(
+                "The fitted linear form misses these channels of the linear runs by more than \
+                 {:.0} % of their signal beyond the noise: {}. A sensor whose sign or gain is \
+                 wrong, physics the linear form lacks, or a weakest run that is not linear; the \
+                 verdict says whether the named model explains them.",
+                100.0 * EXPLAINED_ERROR,
+                list.join(", ")
+            ),
+        });
+    }
     blocks.extend(frequency_table(&j));
     blocks.extend(transfer_plots(b, stage));
     blocks.push(Block::Table(Table {

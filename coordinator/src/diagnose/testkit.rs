@@ -237,8 +237,8 @@ fn sdof_diagnosis(
         gain: 0.0,
         fe_points: 0,
         channels: None,
-        unconfirmed: None,
         linear: None,
+        unexplained: None,
     }
 }
 

@@ -153,13 +153,13 @@ pub struct VerdictJson {
     pub format: String,
     /// Bundle name.
     pub bundle: String,
-    /// The cause named.
+    /// The cause named: a candidate's, or `unexplained` when the data show
+    /// something no model explains ([`UnexplainedJson`]).
     pub cause: String,
-    /// The extension the MDL chose but the validation runs did not confirm
-    /// (it predicts them no better than the baseline, which is named
-    /// instead; an extra field, which the format allows).
+    /// What no model explains (with `cause = "unexplained"`; an extra
+    /// field, which the format allows).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub unconfirmed_cause: Option<String>,
+    pub unexplained: Option<UnexplainedJson>,
     /// Every candidate, the baseline first.
     pub candidates: Vec<CandidateJson>,
     /// Baseline error on the validation runs.
@@ -185,6 +185,33 @@ pub struct VerdictJson {
     /// The symptoms, when given ([`VerdictJson::with_symptoms`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub symptoms: Vec<SymptomJson>,
+}
+
+/// The verdict's word when no model explains the data.
+pub const UNEXPLAINED: &str = "unexplained";
+
+/// What no model explains, as written.
+#[derive(Debug, Clone, Serialize)]
+pub struct UnexplainedJson {
+    /// The model the MDL chose, which the check found wanting.
+    pub model: String,
+    /// Its mean validation error beyond the noise.
+    pub validation_error: f64,
+    /// Each channel missed by more than the explained error.
+    pub misses: Vec<MissJson>,
+}
+
+/// One missed channel as written.
+#[derive(Debug, Clone, Serialize)]
+pub struct MissJson {
+    /// `linear run` or `validation run`.
+    pub at: String,
+    /// Run id.
+    pub run: String,
+    /// Sensor id.
+    pub sensor: String,
+    /// Error beyond the noise, as a share of the signal's RMS.
+    pub excess_error: f64,
 }
 
 /// The choice of the carrying channels as written.
@@ -253,8 +280,21 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
     VerdictJson {
         format: FORMAT.into(),
         bundle: d.bundle.clone(),
-        cause: d.cause.as_str().into(),
-        unconfirmed_cause: d.unconfirmed.map(|c| c.as_str().into()),
+        cause: if d.unexplained.is_some() { UNEXPLAINED.into() } else { d.cause.as_str().into() },
+        unexplained: d.unexplained.as_ref().map(|u| UnexplainedJson {
+            model: d.cause.as_str().into(),
+            validation_error: u.validation_error,
+            misses: u
+                .misses
+                .iter()
+                .map(|m| MissJson {
+                    at: m.at.as_str().into(),
+                    run: m.run.clone(),
+                    sensor: m.sensor.clone(),
+                    excess_error: m.excess_error,
+                })
+                .collect(),
+        }),
         candidates: d
             .candidates
             .iter()

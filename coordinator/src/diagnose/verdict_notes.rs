@@ -9,42 +9,6 @@ use super::report::num;
 use crate::bundle::Bundle;
 use crate::report::{Block, NoteKind};
 
-/// Extended over baseline validation error above which an extension's
-/// prediction is called far worse than the baseline's (gain below −1).
-const FAR_WORSE: f64 = 2.0;
-
-/// A warning when the MDL chose an extension that predicts the validation
-/// runs no better than the baseline, so that the baseline is named
-/// ([`Diagnosis::unconfirmed`]): the runs it was not calibrated on do not
-/// confirm its cause.
-pub fn unconfirmed_note(d: &Diagnosis) -> Option<Block> {
-    let cause = d.unconfirmed?;
-    let ext = d.candidates.iter().find(|c| c.cause == cause)?;
-    let base = d.candidates.iter().find(|c| c.cause == Cause::None)?;
-    let total = |c: &super::pipeline::CandidateResult| c.mdl.as_ref().map_or(f64::NAN, |m| m.total);
-    let (bv, ev) = (base.validation_error, ext.validation_error);
-    let mut text = format!(
-        "{} fits the calibration runs better than the baseline (MDL {:.1} nats lower, enough \
-         to name it), but it predicts the validation runs no better (validation error {} \
-         against {}, gain {:.3}): the runs it was not calibrated on do not confirm it, so the \
-         baseline is named. The extension may stand in for another misfit of the model (the \
-         damping's form, the mass or stiffness of parts it holds fixed), or the calibration \
-         runs may not exercise the physics the validation runs show.",
-        cause.as_str(),
-        total(base) - total(ext),
-        num(ev),
-        num(bv),
-        1.0 - ev / bv
-    );
-    if ev > FAR_WORSE * bv {
-        text.push_str(
-            " Its prediction is far worse than the baseline's: the validation runs drive it \
-             beyond what the calibration runs constrain.",
-        );
-    }
-    Some(Block::Note { kind: NoteKind::Warning, text })
-}
-
 /// Gain below which a named extension and the baseline are said to
 /// predict the validation runs alike.
 pub const ALIKE_GAIN: f64 = 0.1;
@@ -153,28 +117,6 @@ mod tests {
     }
 
     #[test]
-    fn an_extension_the_validation_runs_do_not_confirm_is_flagged() {
-        let (_, mut d) = pounding_diagnosis(true, true);
-        let set = |d: &mut Diagnosis, cause: Cause, mdl: f64, val: f64| {
-            let c = d.candidates.iter_mut().find(|c| c.cause == cause).unwrap();
-            c.validation_error = val;
-            c.mdl = Some(crate::diagnose::testkit::mdl_of(mdl, 1));
-        };
-        set(&mut d, Cause::None, -17530.9, 0.0092);
-        set(&mut d, Cause::PerimeterPounding, -17645.9, 0.0100);
-        assert_eq!(warning_text(unconfirmed_note(&d)), None, "nothing set aside");
-        d.cause = Cause::None;
-        d.unconfirmed = Some(Cause::PerimeterPounding);
-        let text = warning_text(unconfirmed_note(&d)).expect("an unconfirmed extension");
-        assert!(text.contains("perimeter-pounding") && text.contains("115.0 nats"), "{text}");
-        assert!(text.contains("0.0100") && text.contains("0.0092"), "{text}");
-        assert!(text.contains("gain -0.087") && !text.contains("far worse"), "{text}");
-        set(&mut d, Cause::PerimeterPounding, -17645.9, 0.0200);
-        let text = warning_text(unconfirmed_note(&d)).expect("an unconfirmed extension");
-        assert!(text.contains("far worse"), "{text}");
-    }
-
-    #[test]
     fn an_extension_the_validation_runs_barely_exercise_is_flagged() {
         let (_, mut d) = pounding_diagnosis(true, true);
         let set = |d: &mut Diagnosis, cause: Cause, cal: f64| {
@@ -187,8 +129,8 @@ mod tests {
         d.gain = 1.0 - 0.0291 / 0.0293;
         let text = warning_text(unexercised_note(&d)).expect("an unexercised extension");
         assert!(text.contains("0.0430") && text.contains("0.246") && text.contains("0.0291"));
-        // A real gain, a calibration fit not far better, a worse prediction
-        // (the unconfirmed warning's), or the baseline named: no note.
+        // A real gain, a calibration fit not far better, a worse prediction,
+        // or the baseline named: no note.
         d.extended_validation_error = 0.01;
         d.gain = 1.0 - 0.01 / 0.0293;
         assert_eq!(warning_text(unexercised_note(&d)), None, "a gain of 0.66");
