@@ -1,7 +1,8 @@
 //! The identified natural frequencies (`modal.csv`) in a calibration's
-//! likelihood. Mode k of the table is compared with the model's k-th lowest
-//! frequency at the parameter point (every spring at its initial tangent,
-//! as the model's own modal analysis has it). Each mode is Gaussian with
+//! likelihood. Mode k of the table is compared with the model's k-th sway
+//! mode at the parameter point ([`sway_modes`]: the modes whose kinetic
+//! energy is mostly horizontal, every spring at its initial tangent, as
+//! the model's own modal analysis has it). Each mode is Gaussian with
 //! the lab's one-sigma uncertainty plus one model-discrepancy variance
 //! common to the modes, estimated at each point (profiled, as the time
 //! histories' noise is): frequencies the model reproduces within the lab's

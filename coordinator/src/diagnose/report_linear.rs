@@ -185,3 +185,29 @@ fn transfer_plots(b: &Bundle, stage: &LinearStage) -> Vec<Block> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::farm_executor_tests::tiny_bundle;
+    use crate::diagnose::linear_stage::linear_at;
+    use crate::diagnose::pipeline::split_runs;
+
+    /// The section of a linear form: its parameters and channels (and the
+    /// frequencies when the bundle has them), and a drawn transfer function
+    /// of a sensor in the shaken direction (no plot fell back to a warning).
+    #[test]
+    fn the_linear_section_draws_the_fit() {
+        let tmp = tempfile::tempdir().unwrap();
+        let b = tiny_bundle(tmp.path());
+        let (cal, _) = split_runs(&b);
+        let stage = linear_at(&b, &cal, &[("K_friction".into(), 18.0)]).unwrap();
+        let blocks = linear_blocks(&b, &stage);
+        let figures = blocks.iter().filter(|b| matches!(b, Block::Figure(_))).count();
+        assert!(figures >= 1, "no transfer function drawn");
+        let warnings = blocks.iter().filter(|b| matches!(b, Block::Note { kind: NoteKind::Warning, text } if text.contains("not drawn")));
+        assert_eq!(warnings.count(), 0);
+        let tables = blocks.iter().filter(|b| matches!(b, Block::Table(_))).count();
+        assert_eq!(tables, 2 + usize::from(b.modal.is_some()));
+    }
+}

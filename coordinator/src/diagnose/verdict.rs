@@ -204,7 +204,7 @@ pub struct UnexplainedJson {
 /// One missed channel as written.
 #[derive(Debug, Clone, Serialize)]
 pub struct MissJson {
-    /// `linear run` or `validation run`.
+    /// `calibration run` or `validation run`.
     pub at: String,
     /// Run id.
     pub run: String,
