@@ -5,6 +5,7 @@
 
 pub mod bbvi;
 pub mod calibration;
+pub mod evidence;
 pub mod gp;
 pub mod mcmc;
 pub mod selection;

@@ -1,0 +1,277 @@
+//! The tempered SMC driver: options, the run's record, and the loop.
+
+use super::moves::{accept, proposal_factor, propose, weighted_covariance, Population};
+use super::{multinomial, next_temperature, relative_variance, Prior};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// Settings of a tempered SMC run, each with its reason.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SmcOptions {
+    /// Particles: 1000 gives an evidence to about 0.1 nat on smooth
+    /// posteriors of a few parameters (the tests measure it).
+    pub particles: usize,
+    /// Coefficient of variation of the incremental weights at each step:
+    /// 1 halves the effective sample size per stage (Ching & Chen 2007;
+    /// Betz et al. 2016).
+    pub target_cov: f64,
+    /// Metropolis steps per particle and stage: enough to move each particle
+    /// about a proposal's width away from its resampled copies.
+    pub mcmc_steps: usize,
+    /// Acceptance rate the proposal scale is steered to: 0.234 (Roberts,
+    /// Gelman & Gilks 1997).
+    pub target_acceptance: f64,
+    /// Stages before the run gives up (a likelihood too sharp for the population).
+    pub max_stages: usize,
+    /// Seed of the run's random stream.
+    pub seed: u64,
+}
+
+impl Default for SmcOptions {
+    fn default() -> Self {
+        Self {
+            particles: 1000,
+            target_cov: 1.0,
+            mcmc_steps: 10,
+            target_acceptance: 0.234,
+            max_stages: 500,
+            seed: 1,
+        }
+    }
+}
+
+/// One stage of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SmcStage {
+    /// Temperature reached.
+    pub beta: f64,
+    /// log mean of the incremental weights (this stage's share of ln Z).
+    pub ln_increment: f64,
+    /// Effective sample size of the incremental weights over N.
+    pub ess_fraction: f64,
+    /// Acceptance rate of the stage's Metropolis steps.
+    pub acceptance: f64,
+    /// Proposal scale at the stage's end (times the population's covariance factor).
+    pub proposal_scale: f64,
+    /// Likelihood evaluations of the stage.
+    pub evaluations: usize,
+    /// Batches they were asked for in (evaluations / batches = runs in flight).
+    pub batches: usize,
+}
+
+/// What a run found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SmcRun {
+    /// ln Ẑ, the log-evidence estimate.
+    pub ln_evidence: f64,
+    /// Its Monte-Carlo standard error, sqrt(ln(1 + relative variance)).
+    pub ln_evidence_sd: f64,
+    /// var(Ẑ) / Z² by the genealogy estimator (may exceed 1 when the
+    /// genealogy collapsed: the run cannot tell its error).
+    pub relative_variance: f64,
+    /// Distinct first-population ancestors left at the last weighting.
+    pub distinct_ancestors: usize,
+    /// The stages, first to last.
+    pub stages: Vec<SmcStage>,
+    /// Posterior draws (equally weighted).
+    pub particles: Vec<Vec<f64>>,
+    /// Their log-likelihoods.
+    pub ln_likelihood: Vec<f64>,
+    /// Likelihood evaluations in all.
+    pub evaluations: usize,
+}
+
+/// Why a run stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum SmcError<E: std::error::Error + 'static> {
+    /// An option out of its range.
+    #[error("smc option {key} = {value}: expected {expected}")]
+    Option { key: &'static str, value: String, expected: &'static str },
+    /// The likelihood callback failed.
+    #[error("likelihood evaluation failed: {0}")]
+    Likelihood(#[source] E),
+    /// The callback answered a batch with the wrong number of values.
+    #[error("likelihood batch of {asked} points answered with {got} values")]
+    BatchSize { asked: usize, got: usize },
+    /// A log-likelihood that is NaN or +∞.
+    #[error("log-likelihood {value} at {point:?}: expected a finite value or -inf")]
+    NotFinite { point: Vec<f64>, value: f64 },
+    /// Every prior draw has zero likelihood.
+    #[error("all {particles} prior draws have zero likelihood: the evidence is below what the population resolves")]
+    NoSupport { particles: usize },
+    /// The temperature did not reach 1 within the stage limit.
+    #[error("temperature {beta:.3e} after {stages} stages: the likelihood is too sharp for the population")]
+    Stages { stages: usize, beta: f64 },
+}
+
+/// Tempered sequential Monte Carlo with the given options.
+#[derive(Debug, Clone, Default)]
+pub struct TemperedSmc {
+    /// The run's settings.
+    pub options: SmcOptions,
+}
+
+type Batch<'a, E> = dyn FnMut(&[Vec<f64>]) -> Result<Vec<f64>, E> + 'a;
+
+impl TemperedSmc {
+    /// A sampler with these options.
+    pub fn new(options: SmcOptions) -> Self {
+        Self { options }
+    }
+
+    /// Runs from `prior` to the posterior under `ln_likelihood`, which maps a
+    /// batch of points to their log-likelihoods (−∞ for zero likelihood).
+    pub fn run<P: Prior + ?Sized, E: std::error::Error + 'static>(
+        &self,
+        prior: &P,
+        ln_likelihood: &mut Batch<'_, E>,
+    ) -> Result<SmcRun, SmcError<E>> {
+        let o = &self.options;
+        check_options(o)?;
+        let n = o.particles;
+        let d = prior.dim();
+        let mut rng = ChaCha8Rng::seed_from_u64(o.seed);
+        let mut x: Vec<Vec<f64>> = (0..n).map(|_| prior.sample(&mut rng)).collect();
+        let mut ln_p: Vec<f64> = x.iter().map(|xi| prior.ln_density(xi)).collect();
+        let mut ln_l = evaluate(ln_likelihood, &x)?;
+        let mut evaluations = n;
+        if ln_l.iter().all(|v| *v == f64::NEG_INFINITY) {
+            return Err(SmcError::NoSupport { particles: n });
+        }
+        let mut eve: Vec<usize> = (0..n).collect();
+        let (mut beta, mut ln_z, mut rel_var, mut distinct) = (0.0, 0.0, f64::INFINITY, n);
+        let mut scale = 2.38 / (d.max(1) as f64).sqrt();
+        let mut stages = Vec::new();
+        while beta < 1.0 {
+            if stages.len() >= o.max_stages {
+                return Err(SmcError::Stages { stages: stages.len(), beta });
+            }
+            let next = next_temperature(&ln_l, beta, o.target_cov);
+            let lw: Vec<f64> = ln_l.iter().map(|l| (next - beta) * l).collect();
+            let m = lw.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let w: Vec<f64> = lw.iter().map(|v| (v - m).exp()).collect();
+            let sum_w: f64 = w.iter().sum();
+            let ln_increment = m + (sum_w / n as f64).ln();
+            ln_z += ln_increment;
+            let ess_fraction = sum_w * sum_w / w.iter().map(|v| v * v).sum::<f64>() / n as f64;
+            if next >= 1.0 {
+                rel_var = relative_variance(&eve, &w, stages.len());
+                distinct = count_distinct(&eve, &w);
+            }
+            let factor = proposal_factor(&weighted_covariance(&x, &w));
+            let anc = multinomial(&w, &mut rng);
+            x = anc.iter().map(|&a| x[a].clone()).collect();
+            ln_l = anc.iter().map(|&a| ln_l[a]).collect();
+            ln_p = anc.iter().map(|&a| ln_p[a]).collect();
+            eve = anc.iter().map(|&a| eve[a]).collect();
+            beta = next;
+            let mut pop = Population { x: &mut x, ln_l: &mut ln_l, ln_p: &mut ln_p };
+            let moved = self.move_population(
+                prior,
+                ln_likelihood,
+                &mut pop,
+                &factor,
+                &mut scale,
+                beta,
+                &mut rng,
+            )?;
+            evaluations += moved.0;
+            stages.push(SmcStage {
+                beta,
+                ln_increment,
+                ess_fraction,
+                acceptance: moved.1,
+                proposal_scale: scale,
+                evaluations: moved.0,
+                batches: o.mcmc_steps,
+            });
+        }
+        Ok(SmcRun {
+            ln_evidence: ln_z,
+            ln_evidence_sd: (1.0 + rel_var.max(0.0)).ln().sqrt(),
+            relative_variance: rel_var,
+            distinct_ancestors: distinct,
+            stages,
+            particles: x,
+            ln_likelihood: ln_l,
+            evaluations,
+        })
+    }
+
+    /// The stage's Metropolis steps; returns (evaluations, acceptance rate)
+    /// and steers `scale` toward the target acceptance after every step.
+    #[allow(clippy::too_many_arguments)]
+    fn move_population<P: Prior + ?Sized, E: std::error::Error + 'static>(
+        &self,
+        prior: &P,
+        ln_likelihood: &mut Batch<'_, E>,
+        pop: &mut Population<'_>,
+        factor: &nalgebra::DMatrix<f64>,
+        scale: &mut f64,
+        beta: f64,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<(usize, f64), SmcError<E>> {
+        let o = &self.options;
+        let n = pop.x.len();
+        let base = 2.38 / (prior.dim().max(1) as f64).sqrt();
+        let (mut evaluations, mut accepted) = (0, 0);
+        for _ in 0..o.mcmc_steps {
+            let y = propose(pop.x, factor, *scale, rng);
+            let ln_p_y: Vec<f64> = y.iter().map(|yi| prior.ln_density(yi)).collect();
+            let inside: Vec<usize> = (0..n).filter(|&i| ln_p_y[i].is_finite()).collect();
+            let asked: Vec<Vec<f64>> = inside.iter().map(|&i| y[i].clone()).collect();
+            let got = if asked.is_empty() { Vec::new() } else { evaluate(ln_likelihood, &asked)? };
+            evaluations += asked.len();
+            let mut ln_l_y = vec![f64::NEG_INFINITY; n];
+            for (k, &i) in inside.iter().enumerate() {
+                ln_l_y[i] = got[k];
+            }
+            let a = accept(pop, y, &ln_p_y, &ln_l_y, beta, rng);
+            accepted += a;
+            let rate = a as f64 / n as f64;
+            *scale = (*scale * (rate - o.target_acceptance).exp()).clamp(1e-3 * base, 10.0 * base);
+        }
+        Ok((evaluations, accepted as f64 / (n * o.mcmc_steps).max(1) as f64))
+    }
+}
+
+/// Asks for one batch and checks its answers.
+fn evaluate<E: std::error::Error + 'static>(
+    f: &mut Batch<'_, E>,
+    x: &[Vec<f64>],
+) -> Result<Vec<f64>, SmcError<E>> {
+    let v = f(x).map_err(SmcError::Likelihood)?;
+    if v.len() != x.len() {
+        return Err(SmcError::BatchSize { asked: x.len(), got: v.len() });
+    }
+    if let Some(i) = v.iter().position(|l| l.is_nan() || *l == f64::INFINITY) {
+        return Err(SmcError::NotFinite { point: x[i].clone(), value: v[i] });
+    }
+    Ok(v)
+}
+
+/// Distinct ancestors among particles of positive weight.
+fn count_distinct(eve: &[usize], w: &[f64]) -> usize {
+    let mut e: Vec<usize> = eve.iter().zip(w).filter(|(_, w)| **w > 0.0).map(|(e, _)| *e).collect();
+    e.sort_unstable();
+    e.dedup();
+    e.len()
+}
+
+/// Refuses options no run can use.
+fn check_options<E: std::error::Error + 'static>(o: &SmcOptions) -> Result<(), SmcError<E>> {
+    let bad = |key, value: String, expected| Err(SmcError::Option { key, value, expected });
+    if !(2..=10_000_000).contains(&o.particles) {
+        return bad("particles", o.particles.to_string(), "2 to 10 000 000");
+    }
+    if !(o.target_cov.is_finite() && o.target_cov > 0.0) {
+        return bad("target_cov", o.target_cov.to_string(), "a positive number");
+    }
+    if !(o.target_acceptance > 0.0 && o.target_acceptance < 1.0) {
+        return bad("target_acceptance", o.target_acceptance.to_string(), "a number in (0, 1)");
+    }
+    if o.max_stages == 0 {
+        return bad("max_stages", "0".into(), "at least 1");
+    }
+    Ok(())
+}
