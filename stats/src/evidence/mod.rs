@@ -14,10 +14,15 @@
 //! the moves' mixing; its Monte-Carlo error comes from the same run by the
 //! genealogy estimator of Lee & Whiteley (2018) ([`relative_variance`]).
 //!
+//! A likelihood too dear for thousands of evaluations (an FE model) is
+//! run on an emulator of its log-likelihood and the evidence corrected by
+//! the exact likelihood at a few posterior draws ([`correct_evidence`]).
+//!
 //! Every stage hands its likelihood evaluations over as one batch (all
 //! particles at once), so a farm evaluating them runs as many models in
 //! flight as there are particles.
 
+mod correction;
 mod moves;
 mod prior;
 mod resample;
@@ -28,6 +33,7 @@ mod variance;
 #[cfg(test)]
 mod tests;
 
+pub use correction::{check_indices, correct_evidence, CorrectedEvidence};
 pub use prior::{GaussianPrior, Prior};
 pub use resample::multinomial;
 pub use smc::{SmcError, SmcOptions, SmcRun, SmcStage, TemperedSmc};

@@ -189,3 +189,47 @@ fn bad_likelihoods_and_options_are_named() {
         .to_string();
     assert!(e.contains("zero likelihood"), "{e}");
 }
+
+#[test]
+fn an_emulator_corrected_by_exact_checks_gives_the_exact_evidence() {
+    let p = linear_gaussian(3, 12, 0.1, 2.0);
+    // an emulator wrong by a smooth, sizeable bias: 1.5 nat plus a tilt
+    let bias = |t: &[f64]| 1.5 + 0.8 * t[0] - 0.5 * t[1];
+    let emulated = |x: &[Vec<f64>]| {
+        let exact = p.ln_l(x).unwrap();
+        Ok::<_, Infallible>(x.iter().zip(exact).map(|(t, l)| l + bias(t)).collect())
+    };
+    let run = TemperedSmc::new(SmcOptions { seed: 21, ..SmcOptions::default() })
+        .run(&p.prior, &mut { emulated })
+        .unwrap();
+    let off = run.ln_evidence - p.exact_ln_z;
+    let idx = check_indices(&run, 40);
+    assert_eq!(idx.len(), 40);
+    let exact: Vec<f64> =
+        p.ln_l(&idx.iter().map(|&i| run.particles[i].clone()).collect::<Vec<_>>()).unwrap();
+    let c = correct_evidence(&run, &idx, &exact).unwrap();
+    let err = c.ln_evidence - p.exact_ln_z;
+    eprintln!(
+        "emulator off by {off:.3} nat; corrected by 40 exact checks: error {err:.4} nat, sd {:.4}, k-hat {:.2}",
+        c.ln_evidence_sd, c.k_hat
+    );
+    assert!(
+        off.abs() > 1.0,
+        "the emulator's bias must matter for the test to mean anything: {off}"
+    );
+    assert!(
+        err.abs() < 0.5 && err.abs() < 4.0 * c.ln_evidence_sd + 0.05,
+        "{err} (sd {})",
+        c.ln_evidence_sd
+    );
+    assert!(c.k_hat < 0.7, "{}", c.k_hat);
+}
+
+#[test]
+fn a_correction_without_checks_is_refused() {
+    let p = linear_gaussian(1, 3, 0.3, 1.0);
+    let run = run(SmcOptions { particles: 50, seed: 2, ..SmcOptions::default() }, &p);
+    assert!(correct_evidence(&run, &[], &[]).is_none());
+    assert!(correct_evidence(&run, &[0], &[f64::NAN]).is_none());
+    assert!(correct_evidence(&run, &[999], &[0.0]).is_none());
+}
