@@ -22,6 +22,7 @@
 pub mod ceiling;
 pub mod ceiling_campaign;
 pub mod ceiling_modal;
+pub mod csv_rows;
 pub mod exact_json;
 pub mod model;
 pub mod models;

@@ -1,9 +1,11 @@
 //! `bundle.toml`: the specimen, its sensors and its runs.
 
+use super::files::{confined, open_regular};
+use super::ranges::{check_range, Range, GAP_MM, HANGER_M, LENGTH_M, PANEL_KG, SPACING_M};
 use super::{BundleError, Limits, FORMAT};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 
 /// Perimeter condition of the ceiling (seed Table 4.5, 4.2.2): the FE
 /// generator's, spelled as `bundle.toml` spells it.
@@ -221,11 +223,10 @@ pub struct Manifest {
     pub runs: Vec<RunMeta>,
 }
 
-/// Reads a text file with a size limit, refusing NUL bytes and bad UTF-8.
+/// Reads a regular text file with a size limit, refusing NUL bytes and bad UTF-8.
 pub(super) fn read_text(path: &Path, max_bytes: u64) -> Result<String, BundleError> {
     use std::io::Read;
-    let file = std::fs::File::open(path)
-        .map_err(|source| BundleError::Io { path: path.to_path_buf(), source })?;
+    let file = open_regular(path, max_bytes)?;
     let mut bytes = Vec::new();
     file.take(max_bytes + 1)
         .read_to_end(&mut bytes)
@@ -253,9 +254,11 @@ pub(super) fn read_text(path: &Path, max_bytes: u64) -> Result<String, BundleErr
 /// Reads and checks `DIR/bundle.toml`.
 pub(super) fn read_manifest(dir: &Path, limits: &Limits) -> Result<Manifest, BundleError> {
     let path = dir.join("bundle.toml");
-    if !path.is_file() {
+    if std::fs::symlink_metadata(&path).is_err() {
         return Err(BundleError::Missing { path, what: "every bundle needs bundle.toml".into() });
     }
+    confined(dir, "bundle.toml")
+        .map_err(|message| BundleError::File { path: path.clone(), message })?;
     let text = read_text(&path, limits.max_file_bytes.min(16 << 20))?;
     let manifest: Manifest = toml::from_str(&text).map_err(|e| BundleError::File {
         path: path.clone(),
@@ -296,6 +299,16 @@ fn check_manifest(m: &Manifest, dir: &Path, path: &Path) -> Result<(), BundleErr
     check_runs(m, dir, path)
 }
 
+/// The accepted range of a positive `[structure]` key.
+fn structure_range(key: &str) -> Range {
+    match key {
+        "length_x_m" | "length_y_m" => LENGTH_M,
+        "hanger_length_m" => HANGER_M,
+        "panel_mass_kg" => PANEL_KG,
+        _ => SPACING_M,
+    }
+}
+
 fn check_structure(s: &Structure, path: &Path) -> Result<(), BundleError> {
     let positive = [
         ("length_x_m", s.length_x_m),
@@ -314,6 +327,8 @@ fn check_structure(s: &Structure, path: &Path) -> Result<(), BundleError> {
                 format!("{v}: expected a number > 0"),
             ));
         }
+        check_range(&structure_range(key), v)
+            .map_err(|m| key_err(path, format!("structure.{key}"), m))?;
     }
     for (key, v, of, of_name) in [
         ("length_x_m", s.length_x_m, s.module_m, "module_m"),
@@ -341,7 +356,9 @@ fn check_structure(s: &Structure, path: &Path) -> Result<(), BundleError> {
         (_, Some(g)) if !(g.is_finite() && g >= 0.0) => {
             Err(key_err(path, "structure.nominal_gap_mm", format!("{g}: expected a gap >= 0 mm")))
         }
-        _ => Ok(()),
+        (_, Some(g)) => {
+            check_range(&GAP_MM, g).map_err(|m| key_err(path, "structure.nominal_gap_mm", m))
+        }
     }
 }
 
@@ -436,23 +453,8 @@ fn check_runs(m: &Manifest, dir: &Path, path: &Path) -> Result<(), BundleError> 
     Ok(())
 }
 
-/// Resolves a run file inside the bundle; refuses absolute paths, `..` and missing files.
+/// Resolves a run file inside the bundle; refuses absolute paths, `..`,
+/// missing files, links out of the bundle and anything but a regular file.
 pub(super) fn run_path(dir: &Path, file: &str) -> Result<PathBuf, String> {
-    let rel = Path::new(file);
-    if file.is_empty()
-        || rel.is_absolute()
-        || rel.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir))
-    {
-        return Err("expected a path relative to the bundle directory, without \"..\"".into());
-    }
-    let full = dir.join(rel);
-    if !full.is_file() {
-        return Err("no such file in the bundle".into());
-    }
-    // A symbolic link must not lead out of the bundle either.
-    let (root, target) = (dir.canonicalize(), full.canonicalize());
-    match (root, target) {
-        (Ok(root), Ok(target)) if target.starts_with(&root) => Ok(full),
-        _ => Err("resolves outside the bundle directory".into()),
-    }
+    confined(dir, file)
 }

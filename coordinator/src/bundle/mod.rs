@@ -8,8 +8,10 @@
 //! fixed memory bounds ([`Limits`]).
 
 mod error;
+mod files;
 mod manifest;
 mod modal;
+mod ranges;
 mod runfile;
 mod write;
 
@@ -27,6 +29,9 @@ use std::path::{Path, PathBuf};
 /// Format string every bundle declares.
 pub const FORMAT: &str = "ceiling-measured/1";
 
+/// Default [`Limits::max_values`]: 32 Mi numbers, 256 MiB of samples.
+pub const MAX_VALUES: u64 = 32 << 20;
+
 /// Size limits that keep a hostile bundle from exhausting memory.
 #[derive(Debug, Clone, Copy)]
 pub struct Limits {
@@ -38,6 +43,10 @@ pub struct Limits {
     pub max_fields: usize,
     /// Most data rows in one run file.
     pub max_rows: usize,
+    /// Most numbers held from all run files of one bundle together (8
+    /// bytes each), counted per run, so one large file named by many runs
+    /// is bounded too.
+    pub max_values: u64,
 }
 
 impl Default for Limits {
@@ -47,6 +56,7 @@ impl Default for Limits {
             max_line_bytes: 1 << 20,
             max_fields: 4096,
             max_rows: 20_000_000,
+            max_values: MAX_VALUES,
         }
     }
 }
@@ -76,14 +86,21 @@ pub fn read_bundle(dir: &Path) -> Result<Bundle, BundleError> {
 /// As [`read_bundle`], with explicit limits.
 pub fn read_bundle_with(dir: &Path, limits: &Limits) -> Result<Bundle, BundleError> {
     let manifest = manifest::read_manifest(dir, limits)?;
-    let runs = manifest
-        .runs
-        .iter()
-        .map(|r| read_run(dir, &manifest, r, limits))
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut left = *limits;
+    let mut runs = Vec::with_capacity(manifest.runs.len());
+    for r in &manifest.runs {
+        let run = read_run(dir, &manifest, r, &left)?;
+        left.max_values = left.max_values.saturating_sub(run.n_values());
+        runs.push(run);
+    }
     let modal_path = dir.join("modal.csv");
-    let modal =
-        if modal_path.exists() { Some(modal::read_modal(&modal_path, limits)?) } else { None };
+    let modal = if std::fs::symlink_metadata(&modal_path).is_ok() {
+        let path = files::confined(dir, "modal.csv")
+            .map_err(|message| BundleError::File { path: modal_path, message })?;
+        Some(modal::read_modal(&path, limits)?)
+    } else {
+        None
+    };
     Ok(Bundle { dir: dir.to_path_buf(), manifest, runs, modal, linear_form: Vec::new() })
 }
 
@@ -136,3 +153,6 @@ impl Bundle {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod tests_inputs;

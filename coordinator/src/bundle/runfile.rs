@@ -1,10 +1,16 @@
 //! Run files (`runs/*.csv`): a time column `t`, the run's input columns and
-//! any sensor columns, read line by line within fixed limits.
+//! any sensor columns, read row by row through the shared CSV reader
+//! ([`worker::csv_rows`]: quotes, a byte-order mark, CRLF, `#` comments)
+//! within fixed limits.
 
+use super::files::open_regular;
 use super::manifest::{run_path, Manifest, RunMeta};
+use super::ranges::{check_range, DT_S, TIME_S};
 use super::{BundleError, Limits};
-use std::io::{BufRead, BufReader, Read};
-use std::path::{Path, PathBuf};
+use csv::StringRecord;
+use std::io::{BufReader, Read};
+use std::path::Path;
+use worker::csv_rows::{CsvError, CsvLimits, CsvRows};
 
 /// One run's samples, units converted: inputs in m/s², accelerations in
 /// m/s², displacements in mm; a missing reading is NaN.
@@ -33,6 +39,14 @@ impl RunData {
     pub fn duration_s(&self) -> f64 {
         self.dt_s * (self.n_samples().saturating_sub(1)) as f64
     }
+    /// Numbers held while reading it: samples times columns, time included.
+    pub fn n_values(&self) -> u64 {
+        let columns =
+            [&self.input_x_m_s2, &self.input_y_m_s2].iter().filter(|c| c.is_some()).count()
+                + self.sensors.len()
+                + 1;
+        (self.n_samples() * columns) as u64
+    }
     /// Samples of one sensor, if the run measured it.
     pub fn sensor(&self, id: &str) -> Option<&[f64]> {
         self.sensors.iter().find(|(s, _)| s == id).map(|(_, v)| v.as_slice())
@@ -45,48 +59,6 @@ enum Role {
     InputX,
     InputY,
     Sensor(usize),
-}
-
-struct Lines<R> {
-    reader: R,
-    path: PathBuf,
-    line: usize,
-    buf: Vec<u8>,
-    max_line: usize,
-}
-
-impl<R: BufRead> Lines<R> {
-    /// Next line that is not a comment or blank, as text, with its number.
-    fn next(&mut self) -> Result<Option<(usize, String)>, BundleError> {
-        loop {
-            self.buf.clear();
-            let n = (&mut self.reader)
-                .take(self.max_line as u64 + 1)
-                .read_until(b'\n', &mut self.buf)
-                .map_err(|source| BundleError::Io { path: self.path.clone(), source })?;
-            if n == 0 {
-                return Ok(None);
-            }
-            self.line += 1;
-            let err = |message: String| BundleError::Line {
-                path: self.path.clone(),
-                line: self.line,
-                message,
-            };
-            if self.buf.last() != Some(&b'\n') && n > self.max_line {
-                return Err(err(format!("line longer than the limit of {} bytes", self.max_line)));
-            }
-            if self.buf.contains(&0) {
-                return Err(err("NUL byte: expected plain text".into()));
-            }
-            let text = std::str::from_utf8(&self.buf).map_err(|_| err("not UTF-8 text".into()))?;
-            let text = text.trim_end_matches(['\n', '\r']);
-            if text.trim().is_empty() || text.trim_start().starts_with('#') {
-                continue;
-            }
-            return Ok(Some((self.line, text.to_string())));
-        }
-    }
 }
 
 /// Reads one run file named by the manifest.
@@ -102,32 +74,22 @@ pub fn read_run(
         key: format!("runs[{}].file", run.id),
         message: format!("{:?}: {m}", run.file),
     })?;
-    let file = std::fs::File::open(&path)
-        .map_err(|source| BundleError::Io { path: path.clone(), source })?;
-    let size = file.metadata().map(|m| m.len()).unwrap_or(0);
-    let too_big = || BundleError::File {
-        path: path.clone(),
-        message: format!("larger than the limit of {} bytes", limits.max_file_bytes),
-    };
-    if size > limits.max_file_bytes {
-        return Err(too_big());
-    }
+    let file = open_regular(&path, limits.max_file_bytes)?;
     let reader = BufReader::new(file.take(limits.max_file_bytes + 1));
-    let mut lines = Lines {
-        reader,
-        path: path.clone(),
-        line: 0,
-        buf: Vec::new(),
-        max_line: limits.max_line_bytes,
+    let mut rows = CsvRows::new(reader, csv_limits(limits), true);
+    let (hline, header) = match rows.next_row().map_err(|e| csv_error(&path, e))? {
+        Some((line, record)) => (line, record.clone()),
+        None => {
+            return Err(BundleError::File {
+                path: path.clone(),
+                message: "empty: expected a header line starting with t".into(),
+            })
+        }
     };
-    let (hline, header) = lines.next()?.ok_or_else(|| BundleError::File {
-        path: path.clone(),
-        message: "empty: expected a header line starting with t".into(),
-    })?;
-    let roles = header_roles(&header, hline, manifest, run, &path, limits)?;
+    let roles = header_roles(&header, hline, manifest, run, &path)?;
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); roles.len()];
     let mut line_of_row: Vec<usize> = Vec::new();
-    while let Some((line, text)) = lines.next()? {
+    while let Some((line, record)) = rows.next_row().map_err(|e| csv_error(&path, e))? {
         if cols[0].len() >= limits.max_rows {
             return Err(BundleError::Line {
                 path,
@@ -135,29 +97,47 @@ pub fn read_run(
                 message: format!("more than {} rows", limits.max_rows),
             });
         }
-        parse_row(&text, line, &roles, &header, &mut cols, &path)?;
+        if ((cols[0].len() + 1) * roles.len()) as u64 > limits.max_values {
+            return Err(BundleError::Line { path, line, message: values_message(limits) });
+        }
+        parse_row(record, line, &roles, &header, &mut cols, &path)?;
         line_of_row.push(line);
     }
     assemble(run, manifest, roles, cols, &line_of_row, &path)
 }
 
+/// Why a run is refused for the bundle's memory bound.
+fn values_message(limits: &Limits) -> String {
+    format!(
+        "more than the {} numbers left of the bundle's limit (Limits::max_values, 8 bytes each; \
+         all run files together, a file named by several runs counted each time)",
+        limits.max_values
+    )
+}
+
+/// The shared reader's bounds from a bundle's limits.
+pub(super) fn csv_limits(limits: &Limits) -> CsvLimits {
+    CsvLimits { max_line_bytes: limits.max_line_bytes, max_fields: limits.max_fields }
+}
+
+/// A shared-reader error as a bundle error naming the file and line.
+pub(super) fn csv_error(path: &Path, e: CsvError) -> BundleError {
+    let path = path.to_path_buf();
+    match (e.line(), e) {
+        (_, CsvError::Io { source }) => BundleError::Io { path, source },
+        (line, e) => BundleError::Line { path, line: line.unwrap_or(0), message: e.to_string() },
+    }
+}
+
 fn header_roles(
-    header: &str,
+    header: &StringRecord,
     line: usize,
     m: &Manifest,
     run: &RunMeta,
     path: &Path,
-    limits: &Limits,
 ) -> Result<Vec<Role>, BundleError> {
     let err = |message: String| BundleError::Line { path: path.to_path_buf(), line, message };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    if names.len() > limits.max_fields {
-        return Err(err(format!(
-            "{} columns: more than the limit of {}",
-            names.len(),
-            limits.max_fields
-        )));
-    }
+    let names: Vec<&str> = header.iter().collect();
     if names[0] != "t" {
         return Err(err(format!(
             "first column is {:?}: expected \"t\" (time in seconds)",
@@ -198,22 +178,21 @@ fn header_roles(
 }
 
 fn parse_row(
-    text: &str,
+    record: &StringRecord,
     line: usize,
     roles: &[Role],
-    header: &str,
+    header: &StringRecord,
     cols: &mut [Vec<f64>],
     path: &Path,
 ) -> Result<(), BundleError> {
     let err = |message: String| BundleError::Line { path: path.to_path_buf(), line, message };
     let mut n = 0;
-    for (k, field) in text.split(',').enumerate() {
-        if k >= roles.len() {
-            return Err(err(format!("expected {} fields, found more", roles.len())));
-        }
-        let field = field.trim();
+    if record.len() > roles.len() {
+        return Err(err(format!("expected {} fields, found more ({})", roles.len(), record.len())));
+    }
+    for (k, field) in record.iter().enumerate() {
         let missing = field.is_empty() || field.eq_ignore_ascii_case("nan");
-        let column = || header.split(',').nth(k).unwrap_or("").trim().to_string();
+        let column = || header.get(k).unwrap_or("").to_string();
         let value = if missing {
             match roles[k] {
                 Role::Time => return Err(err("time t is missing: expected a number".into())),
@@ -231,6 +210,9 @@ fn parse_row(
                 .map_err(|_| err(format!("column {:?}: {field:?} is not a number", column())))?;
             if !v.is_finite() {
                 return Err(err(format!("column {:?}: {field:?}: expected a finite number (empty or nan for a missing reading)", column())));
+            }
+            if roles[k] == Role::Time {
+                check_range(&TIME_S, v).map_err(|m| err(format!("column \"t\": {m}")))?;
             }
             v
         };
@@ -263,6 +245,9 @@ fn assemble(
         sensors: Vec::new(),
     };
     for (role, mut col) in roles.into_iter().zip(cols).skip(1) {
+        // Growth by doubling leaves up to half a column unused; the bundle's
+        // memory bound counts what is held.
+        col.shrink_to_fit();
         match role {
             Role::InputX | Role::InputY => {
                 col.iter_mut().for_each(|v| *v *= scale_in);
@@ -293,6 +278,12 @@ fn check_time(t: &[f64], lines: &[usize], path: &Path) -> Result<(f64, f64), Bun
         });
     }
     let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+    if dt > 0.0 {
+        check_range(&DT_S, dt).map_err(|m| BundleError::File {
+            path: path.to_path_buf(),
+            message: format!("time step dt = {m}"),
+        })?;
+    }
     for k in 1..t.len() {
         let err = |message: String| BundleError::Line {
             path: path.to_path_buf(),

@@ -36,6 +36,14 @@ pub enum ReportError {
         /// What was expected, e.g. "> 0" or "within 0 to 3.6 m".
         expected: String,
     },
+    /// The PNG encoder refused an image.
+    #[error("{plot}: image: {message}")]
+    Image {
+        /// The plot's title.
+        plot: String,
+        /// The encoder's reason.
+        message: String,
+    },
     /// An SVG fragment is not well-formed or holds something a
     /// self-contained page must not (scripts, external links).
     #[error("svg: {what} at byte {at}")]

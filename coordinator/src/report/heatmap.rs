@@ -77,7 +77,9 @@ pub fn heatmap(map: &Heatmap) -> Result<String, ReportError> {
         }
     }
     let (left, right, top, bottom) = (x.px_lo, x.px_hi, y.px_hi, y.px_lo);
-    svg.png(left, top, right - left, bottom - top, &png_rgb_base64(nx as u32, ny as u32, &rgb));
+    let image = png_rgb_base64(nx as u32, ny as u32, &rgb)
+        .map_err(|message| ReportError::Image { plot: map.title.clone(), message })?;
+    svg.png(left, top, right - left, bottom - top, &image);
     svg.rect(left, top, right - left, bottom - top, "none", 1.0, Some(Stroke::solid("#444", 1.0)));
     colour_bar(&mut svg, right + 18.0, top, bottom, limit, &map.z_label);
     Ok(svg.finish())

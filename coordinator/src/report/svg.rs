@@ -1,6 +1,14 @@
 //! A minimal SVG writer: the handful of elements the plots use, every text
 //! escaped, every coordinate rounded to 0.01 px. Colours are CSS colour
 //! strings chosen by this module, never by the caller.
+//!
+//! Hand-written rather than through plotters' SVG backend: plotters draws on
+//! integer pixel coordinates (`BackendCoord = (i32, i32)`), where these
+//! figures are written at 0.01 px, and it writes its own text attributes;
+//! every figure of the report would change, not only in bytes but in
+//! content (rounded line paths, shifted tick labels), while the page's
+//! figures must keep their content. The workspace no longer declares
+//! plotters (stated, not measured: no figure was drawn both ways).
 
 use super::escape::{escape, px};
 

@@ -5,6 +5,9 @@
 //! The run's model file `MDIR/<run>.json` must be the one this campaign
 //! exports now, so histories of another campaign or seed are refused.
 //!
+//! History files are read through the shared CSV reader
+//! ([`worker::csv_rows`]: quotes, a byte-order mark, CRLF; no comment lines).
+//!
 //! Units: recorder columns in mm/s² and mm, as exported.
 
 use super::export::model_text;
@@ -12,6 +15,7 @@ use super::spec::SynthSpec;
 use fe::ceiling::PreparedRun;
 use fe::transient::History;
 use std::path::{Path, PathBuf};
+use worker::csv_rows::{CsvError, CsvLimits, CsvRows};
 
 /// Why a history (or modal) file cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -82,6 +86,15 @@ pub enum HistoryError {
     },
 }
 
+/// A shared-reader error as a history error naming the file (and line).
+fn csv_error(path: &Path, e: CsvError) -> HistoryError {
+    let message = match e.line() {
+        Some(line) => format!("line {line}: {e}"),
+        None => e.to_string(),
+    };
+    HistoryError::Io { path: path.to_path_buf(), message }
+}
+
 fn read(path: &Path) -> Result<String, HistoryError> {
     std::fs::read_to_string(path)
         .map_err(|e| HistoryError::Io { path: path.to_path_buf(), message: e.to_string() })
@@ -111,15 +124,19 @@ pub fn read_run_history(
 ) -> Result<History, HistoryError> {
     let path = dir.join(format!("{run_id}.history.csv"));
     let text = read(&path)?;
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-    let header: Vec<&str> =
-        lines.next().map(|(_, l)| l.split(',').map(str::trim).collect()).unwrap_or_default();
+    let mut csv = CsvRows::new(text.as_bytes(), CsvLimits::default(), false);
+    let header: Vec<String> = match csv.next_row().map_err(|e| csv_error(&path, e))? {
+        Some((_, record)) => record.iter().map(str::to_string).collect(),
+        None => Vec::new(),
+    };
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
     let names = recorder_names(prep);
     let idx = recorder_columns(&path, run_id, &header, &names)?;
     let layout = HistoryLayout { path: &path, header, idx, dt: prep.input_dt_s };
     let mut rows = Vec::new();
-    for (k, line) in lines {
-        let row = layout.row(k + 1, line, rows.len())?;
+    while let Some((line, record)) = csv.next_row().map_err(|e| csv_error(&path, e))? {
+        let cells: Vec<&str> = record.iter().collect();
+        let row = layout.row(line, &cells, rows.len())?;
         rows.push(row);
     }
     check_row_count(&path, rows.len(), prep.output_rows(), layout.dt)?;
@@ -166,13 +183,12 @@ struct HistoryLayout<'a> {
 
 impl HistoryLayout<'_> {
     /// Row number `row` (0-based) from file line `line` (1-based): `t`, then the recorders.
-    fn row(&self, line: usize, text: &str, row: usize) -> Result<Vec<f64>, HistoryError> {
-        let cells: Vec<&str> = text.split(',').map(str::trim).collect();
-        let t = self.value(line, &cells, 0)?;
+    fn row(&self, line: usize, cells: &[&str], row: usize) -> Result<Vec<f64>, HistoryError> {
+        let t = self.value(line, cells, 0)?;
         self.check_time(line, t, row)?;
         let mut values = vec![t];
         for c in &self.idx {
-            values.push(self.value(line, &cells, *c)?);
+            values.push(self.value(line, cells, *c)?);
         }
         Ok(values)
     }

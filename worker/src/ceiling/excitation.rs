@@ -3,14 +3,17 @@
 //! ramps, seed 4.2.3; `fe::ceiling::SineSweep`) or a recorded accelerogram
 //! read from CSV in g or m/s². Output: an [`fe::ceiling::BaseInput`] in m/s².
 //!
-//! A record file is comma-separated with one header line; `#` starts a
-//! comment line. Its first column is time (s), uniformly sampled (relative
+//! A record file is comma-separated with one header line, read through the
+//! shared CSV reader ([`crate::csv_rows`]: quotes, a byte-order mark, CRLF);
+//! `#` starts a comment line. Its first column is time (s), uniformly sampled (relative
 //! jitter up to 1e-6 of the step); the acceleration columns are chosen by
 //! name (`column_x`, `column_y`) or, by default, the second column for `x`
 //! or `y` and the second and third for `xy`.
 
 use std::path::PathBuf;
 
+use crate::csv_rows::{CsvError, CsvLimits, CsvRows};
+use csv::StringRecord;
 use fe::ceiling::{sine_sweep, BaseInput, SineSweep};
 use serde::Deserialize;
 
@@ -269,18 +272,15 @@ pub fn read_record(
     text: &str,
     cols: &Columns<'_>,
 ) -> Result<(f64, Vec<f64>, Vec<f64>), ExcitationError> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(k, l)| (k + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    let Some((_, header)) = lines.next() else {
+    let mut rows = CsvRows::new(text.as_bytes(), CsvLimits::default(), true);
+    let Some((_, header)) = rows.next_row().map_err(csv_err)? else {
         return err("file", "the record is empty: expected a header line and samples".into());
     };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let header: Vec<String> = header.iter().map(str::to_string).collect();
+    let names: Vec<&str> = header.iter().map(String::as_str).collect();
     let (ix, iy) = component_columns(&names, cols)?;
     let (mut t, mut x, mut y) = (Vec::new(), Vec::new(), Vec::new());
-    for (line, row) in lines {
+    while let Some((line, row)) = rows.next_row().map_err(csv_err)? {
         let fields = record_fields(line, row, names.len())?;
         t.push(record_number(&names, &fields, line, 0)?);
         if let Some(i) = ix {
@@ -330,9 +330,22 @@ fn column_index(
     }
 }
 
+/// A shared-reader error as an error of option `file`, with its line.
+fn csv_err(e: CsvError) -> ExcitationError {
+    let message = match e.line() {
+        Some(line) => format!("line {line}: {e}"),
+        None => e.to_string(),
+    };
+    ExcitationError { key: "file".into(), message }
+}
+
 /// The trimmed fields of record line `line`, refused unless there are `expected`.
-fn record_fields(line: usize, row: &str, expected: usize) -> Result<Vec<&str>, ExcitationError> {
-    let fields: Vec<&str> = row.split(',').map(str::trim).collect();
+fn record_fields(
+    line: usize,
+    row: &StringRecord,
+    expected: usize,
+) -> Result<Vec<&str>, ExcitationError> {
+    let fields: Vec<&str> = row.iter().collect();
     if fields.len() != expected {
         return err("file", format!("line {line}: {} fields, expected {expected}", fields.len()));
     }
