@@ -22,6 +22,7 @@ pub mod store_lock;
 #[cfg(test)]
 mod store_tests;
 pub mod study;
+pub mod study_files;
 pub mod sweep;
 pub mod synth;
 pub mod transports;
