@@ -81,7 +81,7 @@ fn snapshot_with_wal(from: &Path, to: &Path) -> u32 {
     let page = u32::from_be_bytes(bytes[8..12].try_into().unwrap()) as usize;
     let frames = bytes[32..].chunks_exact(24 + page);
     let sizes = frames.map(|f| u32::from_be_bytes(f[4..8].try_into().unwrap()));
-    sizes.filter(|&n| n > 0).last().expect("a commit frame")
+    sizes.rev().find(|&n| n > 0).expect("a commit frame")
 }
 
 /// Regression (issue 56): after a checkpoint stopped by a full disk, the
