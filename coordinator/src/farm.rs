@@ -302,6 +302,8 @@ impl Farm<'_> {
             return;
         }
         self.release(result.id);
+        // A NaN from any worker is that run's failure, never a number to keep.
+        let result = TaskResult { outcome: result.outcome.finite_or_failed(), ..result };
         match &result.outcome {
             Outcome::Failed { reason } if self.retry_allowed(result.id) => {
                 obs.retrying(result.id, reason);

@@ -17,7 +17,12 @@ pub mod progress;
 pub mod report;
 pub mod specimen;
 pub mod store;
+pub mod store_file;
+pub mod store_lock;
+#[cfg(test)]
+mod store_tests;
 pub mod study;
+pub mod study_files;
 pub mod sweep;
 pub mod synth;
 pub mod transports;

@@ -29,6 +29,9 @@ enum Command {
     Export(commands::sweep::ExportArgs),
     /// Count what a store holds: done, failed, missing.
     Status(commands::sweep::StatusArgs),
+    /// Dataset stores: check one page by page.
+    #[command(subcommand)]
+    Store(commands::store::StoreCommand),
     /// Serve sweeps as a worker process (iceoryx2 or zenoh transport).
     Worker(commands::worker::WorkerArgs),
     /// Measured-data bundles: check one.
@@ -76,6 +79,7 @@ fn main() -> std::process::ExitCode {
         Command::Design(a) => commands::sweep::design(a),
         Command::Export(a) => commands::sweep::export(a),
         Command::Status(a) => commands::sweep::status(a),
+        Command::Store(c) => commands::store::run(c),
         Command::Bundle(c) => commands::bundle::run(c),
         Command::Fe(c) => commands::fe::run(c),
         Command::Worker(a) => commands::worker::run(a),

@@ -2,8 +2,14 @@
 //! every result (scalars in rows, time histories as zstd-compressed f64
 //! blobs), failures and provenance. Each batch of results is one
 //! transaction, so a `kill -9` at any moment loses at most the runs in
-//! flight; reopening checks the file before trusting it.
+//! flight; with `synchronous = FULL` a committed batch also survives a
+//! power cut. One coordinator owns a store at a time ([`StoreLock`]);
+//! readers open it read-only and take no lock. Opening checks the file in
+//! constant time ([`check_file`], the meta table, the design's extent);
+//! [`Store::check_full`] reads every page (`ceilfarm store check`).
 
+pub use crate::store_file::check_file;
+use crate::store_lock::{LockError, StoreLock};
 use crate::study::{format_value, Study};
 use protocol::{History, Outcome, TaskId, TaskResult};
 use rusqlite::{params, Connection, OpenFlags, OptionalExtension};
@@ -40,6 +46,9 @@ pub enum StoreError {
         /// One entry per changed key: `key: store has X, study has Y`.
         diffs: Vec<String>,
     },
+    /// Another coordinator owns the store, or its lock file failed.
+    #[error(transparent)]
+    Lock(#[from] LockError),
     /// Reading or writing the file failed.
     #[error("{path}: {source}")]
     Io {
@@ -76,6 +85,19 @@ pub struct RunRow {
 pub struct Store {
     conn: Connection,
     path: PathBuf,
+    /// Held for as long as this store may write (absent when read-only).
+    _owner: Option<StoreLock>,
+}
+
+/// What [`Store::check_full`] found in a whole store.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoreCheck {
+    /// Design points.
+    pub tasks: usize,
+    /// Runs finished with outputs.
+    pub ok: usize,
+    /// Runs recorded as failed.
+    pub failed: usize,
 }
 
 const SCHEMA: &str = "
@@ -96,6 +118,14 @@ CREATE TABLE sessions (id INTEGER PRIMARY KEY, started_at TEXT NOT NULL, host TE
     transport TEXT NOT NULL, workers INTEGER NOT NULL, ceilfarm_version TEXT NOT NULL);
 ";
 
+/// Inserts a result, or replaces a recorded failure; an `ok` row is never
+/// touched (a failed row holds no scalars or histories to clean up).
+const UPSERT_RESULT: &str = "INSERT INTO results VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)
+    ON CONFLICT(task_id) DO UPDATE SET status = excluded.status, reason = excluded.reason,
+        host = excluded.host, wall_s = excluded.wall_s, finished_at = excluded.finished_at,
+        session = excluded.session
+    WHERE results.status = 'failed'";
+
 fn now() -> String {
     let t = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
     format!("{:.3}", t.as_secs_f64())
@@ -115,7 +145,7 @@ impl Store {
     ) -> Result<Store, StoreError> {
         let sql = |source| StoreError::Sql { path: path.to_path_buf(), source };
         let conn = Connection::open(path).map_err(sql)?;
-        let mut store = Store { conn, path: path.to_path_buf() };
+        let mut store = Store { conn, path: path.to_path_buf(), _owner: None };
         store.pragmas()?;
         let tx = store.conn.transaction().map_err(sql)?;
         tx.execute_batch(SCHEMA).map_err(sql)?;
@@ -153,22 +183,47 @@ impl Store {
         Ok(store)
     }
 
-    /// Opens an existing store after checking that it is whole.
+    /// Opens an existing store to write to it: takes its lock (refused while
+    /// another process owns it), then checks it in constant time.
     pub fn open(path: &Path) -> Result<Store, StoreError> {
+        let owner = StoreLock::acquire(path)?;
+        Store::open_owned(path, owner)
+    }
+
+    /// Opens an existing store to write to it under a lock already held.
+    pub fn open_owned(path: &Path, owner: StoreLock) -> Result<Store, StoreError> {
         check_file(path)?;
         let sql = |source| StoreError::Sql { path: path.to_path_buf(), source };
         let conn =
             Connection::open_with_flags(path, OpenFlags::SQLITE_OPEN_READ_WRITE).map_err(sql)?;
-        let store = Store { conn, path: path.to_path_buf() };
+        let store = Store { conn, path: path.to_path_buf(), _owner: Some(owner) };
         store.pragmas()?;
-        store.check_integrity()?;
+        store.check_shape()?;
         Ok(store)
+    }
+
+    /// Opens an existing store to read it (`status`, `export`, analyses): no
+    /// lock, no write, works on a read-only file and beside a running sweep.
+    pub fn open_read_only(path: &Path) -> Result<Store, StoreError> {
+        check_file(path)?;
+        let sql = |source| StoreError::Sql { path: path.to_path_buf(), source };
+        let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+        let conn = Connection::open_with_flags(path, flags).map_err(sql)?;
+        let store = Store { conn, path: path.to_path_buf(), _owner: None };
+        store.check_shape()?;
+        Ok(store)
+    }
+
+    /// The SQLite connection (tests drive checkpoints through it).
+    #[cfg(test)]
+    pub(crate) fn conn(&self) -> &Connection {
+        &self.conn
     }
 
     fn pragmas(&self) -> Result<(), StoreError> {
         self.conn
             .execute_batch(
-                "PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL; PRAGMA foreign_keys = ON;",
+                "PRAGMA journal_mode = WAL; PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON;",
             )
             .map_err(|e| self.corrupt_or_sql(e))
     }
@@ -183,33 +238,70 @@ impl Store {
         }
     }
 
-    fn check_integrity(&self) -> Result<(), StoreError> {
-        let corrupt = |reason: String| StoreError::Corrupt { path: self.path.clone(), reason };
-        let verdict: String = self
-            .conn
-            .query_row("PRAGMA quick_check", [], |r| r.get(0))
-            .map_err(|e| self.corrupt_or_sql(e))?;
-        if verdict != "ok" {
-            return Err(corrupt(format!("integrity check failed: {verdict}")));
-        }
-        let format = self
-            .meta("format")
-            .map_err(|_| corrupt("not a ceilfarm store (no meta table)".into()))?;
+    fn corrupt(&self, reason: String) -> StoreError {
+        StoreError::Corrupt { path: self.path.clone(), reason }
+    }
+
+    /// The constant-time checks: a ceilfarm store of this format whose
+    /// design reaches the last task the meta table promises (task ids are
+    /// written 0..n in one transaction, so the largest id stands for all).
+    fn check_shape(&self) -> Result<(), StoreError> {
+        let format = self.meta("format").map_err(|e| match e {
+            StoreError::Sql { .. } => self.corrupt("not a ceilfarm store (no meta table)".into()),
+            other => other,
+        })?;
         if format.as_deref() != Some(STORE_FORMAT) {
-            return Err(corrupt(format!("format {format:?}, expected {STORE_FORMAT:?}")));
+            return Err(self.corrupt(format!("format {format:?}, expected {STORE_FORMAT:?}")));
         }
-        let n: usize = self
-            .meta("n_tasks")?
+        let n = self.n_tasks()?;
+        let last: Option<i64> = self
+            .conn
+            .query_row("SELECT max(task_id) FROM design", [], |r| r.get(0))
+            .map_err(|e| self.corrupt_or_sql(e))?;
+        let rows = last.map_or(0, |l| l as usize + 1);
+        if rows != n {
+            return Err(self.corrupt(format!("design ends at {rows} rows, meta says {n}")));
+        }
+        Ok(())
+    }
+
+    fn n_tasks(&self) -> Result<usize, StoreError> {
+        self.meta("n_tasks")?
             .and_then(|v| v.parse().ok())
-            .ok_or_else(|| corrupt("meta n_tasks missing".into()))?;
+            .ok_or_else(|| self.corrupt("meta n_tasks missing".into()))
+    }
+
+    /// Reads every page: SQLite's `integrity_check`, foreign keys, and the
+    /// design's row count against the meta table (`ceilfarm store check`).
+    pub fn check_full(&self) -> Result<StoreCheck, StoreError> {
+        let mut stmt =
+            self.conn.prepare("PRAGMA integrity_check").map_err(|e| self.corrupt_or_sql(e))?;
+        let verdicts: Vec<String> = stmt
+            .query_map([], |r| r.get(0))
+            .and_then(|rows| rows.collect())
+            .map_err(|e| self.corrupt_or_sql(e))?;
+        if verdicts != ["ok"] {
+            return Err(self.corrupt(format!("integrity check failed: {}", verdicts.join("; "))));
+        }
+        let orphans: i64 = self
+            .conn
+            .query_row("SELECT count(*) FROM pragma_foreign_key_check", [], |r| r.get(0))
+            .map_err(|e| self.corrupt_or_sql(e))?;
+        if orphans != 0 {
+            return Err(
+                self.corrupt(format!("{orphans} rows refer to a missing design point or result"))
+            );
+        }
         let rows: i64 = self
             .conn
             .query_row("SELECT count(*) FROM design", [], |r| r.get(0))
             .map_err(|e| self.corrupt_or_sql(e))?;
+        let n = self.n_tasks()?;
         if rows as usize != n {
-            return Err(corrupt(format!("design has {rows} rows, meta says {n}")));
+            return Err(self.corrupt(format!("design has {rows} rows, meta says {n}")));
         }
-        Ok(())
+        let (ok, failed, _) = self.counts()?;
+        Ok(StoreCheck { tasks: n, ok, failed })
     }
 
     /// A value of the meta table.
@@ -276,16 +368,29 @@ impl Store {
 
     /// Tasks without a recorded result, in order.
     pub fn missing(&self) -> Result<Vec<TaskId>, StoreError> {
-        let mut stmt = self
-            .conn
-            .prepare("SELECT task_id FROM design WHERE task_id NOT IN (SELECT task_id FROM results) ORDER BY task_id")
-            .map_err(self.sql())?;
+        self.to_run(false)
+    }
+
+    /// Tasks a run should do, in order: those without a result and, with
+    /// `retry_failed`, those recorded as failed (model errors, timeouts,
+    /// tasks lost with their workers, non-finite outputs).
+    pub fn to_run(&self, retry_failed: bool) -> Result<Vec<TaskId>, StoreError> {
+        let query = if retry_failed {
+            "SELECT task_id FROM design WHERE task_id NOT IN
+                (SELECT task_id FROM results WHERE status = 'ok') ORDER BY task_id"
+        } else {
+            "SELECT task_id FROM design WHERE task_id NOT IN (SELECT task_id FROM results)
+                ORDER BY task_id"
+        };
+        let mut stmt = self.conn.prepare(query).map_err(self.sql())?;
         let rows = stmt.query_map([], |r| r.get::<_, i64>(0)).map_err(self.sql())?;
         rows.map(|r| r.map(|v| TaskId(v as u64)).map_err(self.sql())).collect()
     }
 
-    /// Records results in one transaction; a result already present is skipped
-    /// (idempotent). Returns how many were new.
+    /// Records results in one transaction. A result already present is
+    /// skipped (idempotent) unless it is a failure, which a new result
+    /// replaces (`--retry-failed`). Outputs with a NaN or an infinity are
+    /// recorded as a failure naming the value. Returns how many were new.
     pub fn record(
         &mut self,
         results: &[TaskResult],
@@ -297,13 +402,18 @@ impl Store {
         let tx = self.conn.transaction().map_err(sql)?;
         let mut fresh = 0;
         for r in results {
-            let (status, reason) = match &r.outcome {
-                Outcome::Ok(_) => ("ok", None),
-                Outcome::Failed { reason } => ("failed", Some(reason.as_str())),
+            let non_finite = match &r.outcome {
+                Outcome::Ok(out) => out.non_finite(),
+                Outcome::Failed { .. } => None,
+            };
+            let (status, reason) = match (&r.outcome, &non_finite) {
+                (_, Some(why)) => ("failed", Some(why.as_str())),
+                (Outcome::Ok(_), None) => ("ok", None),
+                (Outcome::Failed { reason }, None) => ("failed", Some(reason.as_str())),
             };
             let added = tx
                 .execute(
-                    "INSERT OR IGNORE INTO results VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
+                    UPSERT_RESULT,
                     params![r.id.0 as i64, status, reason, r.host, r.wall_s, now(), session],
                 )
                 .map_err(sql)?;
@@ -311,7 +421,7 @@ impl Store {
                 continue;
             }
             fresh += 1;
-            if let Outcome::Ok(out) = &r.outcome {
+            if let (Outcome::Ok(out), None) = (&r.outcome, &non_finite) {
                 for (name, value) in out.scalars.iter().filter(|(n, _)| keep.scalar(n)) {
                     tx.execute(
                         "INSERT INTO scalars VALUES (?1, ?2, ?3)",
@@ -437,7 +547,7 @@ impl Store {
         let ok = q("SELECT count(*) FROM results WHERE status = 'ok'")?;
         let failed = q("SELECT count(*) FROM results WHERE status = 'failed'")?;
         let total = q("SELECT count(*) FROM design")?;
-        Ok((ok, failed, total - ok - failed))
+        Ok((ok, failed, total.saturating_sub(ok + failed)))
     }
 }
 
@@ -495,34 +605,4 @@ pub fn f64s_to_bytes(v: &[f64]) -> Vec<u8> {
 /// Floats from little-endian bytes (a partial trailing value is dropped).
 pub fn bytes_to_f64s(b: &[u8]) -> Vec<f64> {
     b.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect()
-}
-
-/// Checks the SQLite header against the file length before SQLite sees it.
-pub(crate) fn check_file(path: &Path) -> Result<(), StoreError> {
-    let corrupt = |reason: String| StoreError::Corrupt { path: path.to_path_buf(), reason };
-    let mut header = [0u8; 100];
-    let meta = std::fs::metadata(path)
-        .map_err(|source| StoreError::Io { path: path.to_path_buf(), source })?;
-    let len = meta.len();
-    if len < 100 {
-        return Err(corrupt(format!(
-            "{len} bytes is too short for a SQLite database (truncated?)"
-        )));
-    }
-    use std::io::Read;
-    std::fs::File::open(path)
-        .and_then(|mut f| f.read_exact(&mut header))
-        .map_err(|source| StoreError::Io { path: path.to_path_buf(), source })?;
-    if &header[..16] != b"SQLite format 3\0" {
-        return Err(corrupt("not a SQLite database (bad header)".into()));
-    }
-    let page = match u16::from_be_bytes([header[16], header[17]]) {
-        1 => 65536u64,
-        p => p as u64,
-    };
-    let pages = u32::from_be_bytes([header[28], header[29], header[30], header[31]]) as u64;
-    if len % page != 0 || (pages > 0 && len < pages * page) {
-        return Err(corrupt(format!("file has {len} bytes but its header describes {pages} pages of {page} bytes (truncated)")));
-    }
-    Ok(())
 }

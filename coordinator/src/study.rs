@@ -26,6 +26,8 @@
 //! max_retries = 1
 //! ```
 
+use crate::design::maximin;
+use crate::study_files::read_confined;
 use protocol::ModelSpec;
 use serde::Deserialize;
 use sha2::{Digest, Sha256};
@@ -385,8 +387,9 @@ fn validate(raw: RawStudy, path: &Path) -> Result<Study, StudyError> {
         let keys = ("file", "csv", "model.excitation.file");
         inline_file(ex, keys, path, &mut problems);
     }
+    let d = raw.parameters.len();
     let parameters = check_parameters(raw.parameters, &mut problems);
-    let design = check_design(raw.design, &mut problems);
+    let design = check_design(raw.design, d, &mut problems);
     let farm = check_farm(raw.farm, &mut problems);
     if !problems.is_empty() {
         return Err(StudyError::Invalid { path: path.to_path_buf(), problems });
@@ -439,11 +442,45 @@ fn check_parameters(raw: Vec<RawParameter>, problems: &mut Vec<String>) -> Vec<P
         .collect()
 }
 
-fn check_design(raw: RawDesign, problems: &mut Vec<String>) -> DesignSpec {
-    if raw.n < 2 || raw.n > 10_000_000 {
-        problems.push(format!("design.n = {}: expected 2 to 10000000 points", raw.n));
+/// Largest design of any method in coordinates (points x parameters): 2^24
+/// values, 128 MiB in the unit cube and as much in physical units.
+pub const MAX_DESIGN_COORDINATES: usize = 1 << 24;
+
+/// Checks the design's size against the memory its method needs.
+fn check_design(raw: RawDesign, d: usize, problems: &mut Vec<String>) -> DesignSpec {
+    let n = raw.n.max(0) as u64;
+    let max_n = (MAX_DESIGN_COORDINATES / d.max(1)) as u64;
+    let before = problems.len();
+    if n < 2 {
+        problems.push(format!("design.n = {}: expected at least 2 points", raw.n));
+    } else if raw.method == DesignMethod::MaximinLhs && n > maximin::MAX_POINTS as u64 {
+        let matrix = human_bytes(n as f64 * n as f64 * 8.0);
+        problems.push(format!(
+            "design.n = {n}: maximin-lhs keeps an n x n distance matrix ({matrix} at this n); \
+             expected 2 to {} points, or method = \"lhs\" or \"sobol\" beyond",
+            maximin::MAX_POINTS
+        ));
+    } else if n > max_n {
+        problems.push(format!(
+            "design.n = {n}: {d} parameters x {n} points exceed {MAX_DESIGN_COORDINATES} \
+             coordinates ({}); expected 2 to {max_n} points",
+            human_bytes(MAX_DESIGN_COORDINATES as f64 * 8.0)
+        ));
     }
-    DesignSpec { method: raw.method, n: raw.n.max(0) as usize, seed: raw.seed }
+    let n = if problems.len() == before { n as usize } else { 0 };
+    DesignSpec { method: raw.method, n, seed: raw.seed }
+}
+
+/// A byte count in the largest binary unit that keeps it at least 1.
+fn human_bytes(bytes: f64) -> String {
+    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut value = bytes;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < units.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    format!("{value:.0} {}", units[unit])
 }
 
 fn check_farm(raw: RawFarm, problems: &mut Vec<String>) -> FarmSpec {
@@ -492,8 +529,8 @@ fn check_model(study: &Study) -> Result<(), String> {
     Ok(())
 }
 
-/// Replaces `map[key] = "FILE"` (relative to the study file or else to
-/// the working directory) by the file's text as `map[into]`, so that
+/// Replaces `map[key] = "FILE"` (inside the study file's folder, see
+/// [`crate::study_files`]) by the file's text as `map[into]`, so that
 /// workers on other machines need no copy and the study hash covers the
 /// file itself; `label` names the key in a problem. Used for `[model] spec`
 /// (a specimen TOML, as `spec_toml`) and `[model.excitation] file` (a
@@ -505,15 +542,16 @@ fn inline_file(
     problems: &mut Vec<String>,
 ) {
     let Some(serde_json::Value::String(file)) = map.get(key).cloned() else { return };
-    let beside = study_path.parent().unwrap_or(Path::new(".")).join(&file);
-    match std::fs::read_to_string(if beside.is_file() { beside } else { PathBuf::from(&file) }) {
+    let folder = match study_path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    match read_confined(folder, &file) {
         Ok(text) => {
             map.remove(key);
             map.insert(into.into(), serde_json::Value::String(text));
         }
-        Err(e) => problems.push(format!(
-            "{label} = {file:?}: cannot read it beside the study file or in the working directory ({e})"
-        )),
+        Err(e) => problems.push(format!("{label} = {file:?}: {e}")),
     }
 }
 
@@ -576,6 +614,27 @@ seed = 1
         );
     }
 
+    /// Regression (issue 56): maximin with n = 10 000 000 aborted on an
+    /// allocation of its n x n distance matrix (800 TB).
+    #[test]
+    fn a_maximin_design_beyond_its_memory_bound_is_refused() {
+        let big = GOOD.replace("\"lhs\"", "\"maximin-lhs\"").replace("n = 10", "n = 10000000");
+        let e = err(&big);
+        let expected = "design.n = 10000000: maximin-lhs keeps an n x n distance matrix \
+            (728 TiB at this n); expected 2 to 4096 points, or method = \"lhs\" or \"sobol\" beyond";
+        assert!(e.contains(expected), "{e}");
+        let at_bound = GOOD.replace("\"lhs\"", "\"maximin-lhs\"").replace("n = 10", "n = 4096");
+        assert_eq!(Study::parse(&at_bound, Path::new("s.toml")).unwrap().design.n, 4096);
+    }
+
+    #[test]
+    fn a_design_beyond_the_coordinate_bound_is_refused() {
+        let e = err(&GOOD.replace("n = 10", "n = 10000000"));
+        let expected = "design.n = 10000000: 3 parameters x 10000000 points exceed 16777216 \
+            coordinates (128 MiB); expected 2 to 5592405 points";
+        assert!(e.contains(expected), "{e}");
+    }
+
     #[test]
     fn wrong_method_says_what_is_expected() {
         let e = err(&GOOD.replace("\"lhs\"", "\"grid\""));
@@ -631,6 +690,75 @@ seed = 1
         assert!(!ex.contains_key("file") && !s.model_options.contains_key("spec"));
         let e = err(&text.replace("rec.csv", "nope.csv"));
         assert!(e.contains("model.excitation.file = \"nope.csv\""), "{e}");
+    }
+
+    /// A study in a fresh folder naming `spec = SPEC`; the error it gets.
+    fn spec_error(dir: &Path, spec: &str) -> String {
+        let text =
+            GOOD.replace("kind = \"ishigami\"", &format!("kind = \"ishigami\"\nspec = {spec:?}"));
+        Study::parse(&text, &dir.join("s.toml")).unwrap_err().to_string()
+    }
+
+    /// Regression (issue 56): `spec = "../../../../etc/passwd"` was read
+    /// and its first line echoed.
+    #[test]
+    fn a_spec_outside_the_study_folder_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let outside = dir.path().join("outside.toml");
+        std::fs::write(&outside, "secret").unwrap();
+        std::fs::create_dir(dir.path().join("study")).unwrap();
+        let e = spec_error(&dir.path().join("study"), "../outside.toml");
+        assert!(
+            e.contains("model.spec = \"../outside.toml\": resolves to")
+                && e.contains("outside the study's folder"),
+            "{e}"
+        );
+        assert!(!e.contains("secret"), "{e}");
+        let e = spec_error(&dir.path().join("study"), s(&outside));
+        assert!(e.contains("outside the study's folder"), "{e}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symlink_out_of_the_study_folder_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        std::os::unix::fs::symlink("/dev/zero", dir.path().join("spec.toml")).unwrap();
+        let e = spec_error(dir.path(), "spec.toml");
+        let expected =
+            "model.spec = \"spec.toml\": resolves to /dev/zero, outside the study's folder";
+        assert!(e.contains(expected), "{e}");
+    }
+
+    /// Regression (issue 56): a FIFO named as `spec` hung the coordinator.
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_is_refused_without_opening_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("spec.toml");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(made.success());
+        let e = spec_error(dir.path(), "spec.toml");
+        let expected =
+            "model.spec = \"spec.toml\": a FIFO, not a regular file; expected a regular file";
+        assert!(e.contains(expected), "{e}");
+    }
+
+    #[test]
+    fn a_spec_larger_than_the_bound_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let big = std::fs::File::create(dir.path().join("spec.toml")).unwrap();
+        big.set_len(crate::study_files::MAX_STUDY_FILE_BYTES + 1).unwrap();
+        let e = spec_error(dir.path(), "spec.toml");
+        assert!(
+            e.contains(
+                "model.spec = \"spec.toml\": 16777217 bytes; expected at most 16777216 bytes"
+            ),
+            "{e}"
+        );
+    }
+
+    fn s(p: &Path) -> &str {
+        p.to_str().unwrap()
     }
 
     #[test]

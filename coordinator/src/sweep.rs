@@ -4,6 +4,7 @@ use crate::design;
 use crate::farm::{run_farm, FarmSettings, FarmSummary, ResultSink};
 use crate::progress::{bar, SweepProgress};
 use crate::store::{Keep, Store, StoreError};
+use crate::store_lock::StoreLock;
 use crate::study::Study;
 use protocol::{Task, TaskId, TaskResult, Transport};
 use std::path::{Path, PathBuf};
@@ -36,6 +37,8 @@ pub struct SweepOptions {
     pub store: PathBuf,
     /// Continue an existing store.
     pub resume: bool,
+    /// With `resume`, also run again the tasks recorded as failed.
+    pub retry_failed: bool,
     /// Worker count (overrides the study).
     pub workers: Option<usize>,
     /// No progress bar.
@@ -81,13 +84,20 @@ impl ResultSink for StoreSink<'_> {
     }
 }
 
-/// Opens the study's store (resuming) or creates it with a fresh design.
+/// Opens the study's store (resuming) or creates it with a fresh design,
+/// owning it (its lock) until the store is dropped: a second coordinator on
+/// the same path is refused before it looks at the file.
 pub fn open_or_create(study: &Study, path: &Path, resume: bool) -> Result<Store, SweepError> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|source| StoreError::Io { path: dir.to_path_buf(), source })?;
+    }
+    let owner = StoreLock::acquire(path).map_err(StoreError::from)?;
     if path.exists() {
         if !resume {
             return Err(SweepError::Exists(path.to_path_buf()));
         }
-        let store = Store::open(path)?;
+        let store = Store::open_owned(path, owner)?;
         store.check_study(study)?;
         return Ok(store);
     }
@@ -103,17 +113,13 @@ pub fn open_or_create(study: &Study, path: &Path, resume: bool) -> Result<Store,
     let keep = Keep { scalars: study.outputs.clone(), histories: study.keep_histories };
     let outputs: Vec<String> =
         model.output_names().into_iter().filter(|n| keep.scalar(n)).collect();
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|source| StoreError::Io { path: dir.to_path_buf(), source })?;
-    }
     // Build under a temporary name so a crash never leaves a half-made store.
     let tmp = path.with_extension(format!("tmp-{}", std::process::id()));
     let _ = std::fs::remove_file(&tmp);
     drop(Store::create(&tmp, study, &physical, &outputs)?);
     std::fs::rename(&tmp, path)
         .map_err(|source| StoreError::Io { path: path.to_path_buf(), source })?;
-    Ok(Store::open(path)?)
+    Ok(Store::open_owned(path, owner)?)
 }
 
 /// Runs (or resumes) a sweep on the study's (or the options') transport.
@@ -135,7 +141,7 @@ pub fn run_sweep_on(
     let start = Instant::now();
     let mut store = open_or_create(study, &opts.store, opts.resume)?;
     let design = store.design()?;
-    let missing = store.missing()?;
+    let missing = store.to_run(opts.resume && opts.retry_failed)?;
     let tasks: Vec<Task> = missing
         .iter()
         .map(|&TaskId(i)| Task { id: TaskId(i), params: design[i as usize].clone() })

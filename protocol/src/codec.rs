@@ -1,11 +1,25 @@
 //! Binary codec: a little-endian `u16` protocol version, then bincode 2
-//! (standard configuration) of the message, with a decode size limit.
+//! (standard configuration) of the message, with decode limits.
+//!
+//! Limits: a message holds at most [`MAX_MESSAGE_BYTES`] (zenoh's
+//! `max_message_size` is set to the same), and every length field in it (a
+//! string, a byte blob) is bounded by the bytes the message actually
+//! holds: bincode's claimed-bytes limit is the smallest of
+//! [`DECODE_LIMITS_BYTES`] not below the message's length, so a 13-byte
+//! Hello claiming a 1 GiB name is refused before anything is allocated.
+//! A sequence's claimed length never preallocates more than serde's
+//! cautious 1 MiB before its elements are read.
 
 use crate::PROTOCOL_VERSION;
 use serde::{de::DeserializeOwned, Serialize};
 
-/// Largest message accepted on decode (bytes): 1 GiB.
-pub const MAX_MESSAGE_BYTES: usize = 1 << 30;
+/// Largest message accepted on decode or sent over zenoh (bytes): 64 MiB,
+/// some twenty times the largest result we make (a ceiling run's sensor
+/// histories, 30 s at 200 Hz on 40 channels: 1.9 MB).
+pub const MAX_MESSAGE_BYTES: usize = 64 << 20;
+
+/// The claimed-bytes limits decoding chooses from, smallest first.
+pub const DECODE_LIMITS_BYTES: [usize; 5] = [1 << 10, 1 << 14, 1 << 18, 1 << 22, MAX_MESSAGE_BYTES];
 
 /// Why a message could not be encoded or decoded.
 #[derive(Debug, thiserror::Error)]
@@ -32,6 +46,16 @@ pub enum CodecError {
         /// The limit.
         limit: usize,
     },
+    /// A length field claims more bytes than the message holds.
+    #[error(
+        "a length field claims more than the {len} bytes of the message (limit {limit} bytes)"
+    )]
+    Overlong {
+        /// Length of the message body.
+        len: usize,
+        /// The claimed-bytes limit applied.
+        limit: usize,
+    },
     /// The bytes after the header are not a valid message.
     #[error("malformed message: {0}")]
     Malformed(String),
@@ -47,11 +71,35 @@ fn config() -> impl bincode::config::Config {
     bincode::config::standard().with_limit::<MAX_MESSAGE_BYTES>()
 }
 
-/// Encodes a message with its version header.
+/// Decodes `body` under the smallest claimed-bytes limit that fits it.
+fn decode_body<T: DeserializeOwned>(body: &[u8]) -> Result<(T, usize), CodecError> {
+    use bincode::serde::decode_from_slice as from;
+    let std = bincode::config::standard();
+    let [l0, l1, l2, l3, l4] = DECODE_LIMITS_BYTES;
+    let (result, limit) = match body.len() {
+        n if n <= l0 => (from(body, std.with_limit::<{ 1 << 10 }>()), l0),
+        n if n <= l1 => (from(body, std.with_limit::<{ 1 << 14 }>()), l1),
+        n if n <= l2 => (from(body, std.with_limit::<{ 1 << 18 }>()), l2),
+        n if n <= l3 => (from(body, std.with_limit::<{ 1 << 22 }>()), l3),
+        _ => (from(body, std.with_limit::<MAX_MESSAGE_BYTES>()), l4),
+    };
+    result.map_err(|e| match e {
+        bincode::error::DecodeError::LimitExceeded => {
+            CodecError::Overlong { len: body.len(), limit }
+        }
+        e => CodecError::Malformed(e.to_string()),
+    })
+}
+
+/// Encodes a message with its version header; one larger than
+/// [`MAX_MESSAGE_BYTES`] is refused (no peer would accept it).
 pub fn encode<T: Serialize>(msg: &T) -> Result<Vec<u8>, CodecError> {
     let mut out = PROTOCOL_VERSION.to_le_bytes().to_vec();
     bincode::serde::encode_into_std_write(msg, &mut out, config())
         .map_err(|e| CodecError::Malformed(e.to_string()))?;
+    if out.len() > MAX_MESSAGE_BYTES {
+        return Err(CodecError::TooLarge { len: out.len(), limit: MAX_MESSAGE_BYTES });
+    }
     Ok(out)
 }
 
@@ -73,8 +121,7 @@ pub fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, CodecError> {
         return Err(CodecError::Version { found, expected: PROTOCOL_VERSION });
     }
     let body = &bytes[2..];
-    let (msg, used) = bincode::serde::decode_from_slice(body, config())
-        .map_err(|e| CodecError::Malformed(e.to_string()))?;
+    let (msg, used) = decode_body(body)?;
     if used != body.len() {
         return Err(CodecError::Trailing { extra: body.len() - used });
     }
@@ -146,6 +193,55 @@ mod tests {
         bytes.extend_from_slice(&[1, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0xFF]);
         bytes.extend_from_slice(&u64::MAX.to_le_bytes());
         assert!(decode::<FromWorker>(&bytes).is_err());
+    }
+
+    /// Regression (issue 56): a 13-byte Hello whose name claims 1 GiB made
+    /// the coordinator allocate 1.3 GB (tests/decode_limits.rs measures the
+    /// allocation).
+    #[test]
+    fn a_name_longer_than_its_message_is_refused() {
+        let bytes = forged_hello();
+        assert_eq!(bytes.len(), 13);
+        let err = decode::<FromWorker>(&bytes).unwrap_err();
+        assert!(matches!(err, CodecError::Overlong { len: 11, limit: 1024 }), "{err}");
+    }
+
+    /// Version, Hello, proto 2, a name of 1 GiB (varint 0xFC + u32) and 4 bytes of it.
+    fn forged_hello() -> Vec<u8> {
+        let mut bytes = PROTOCOL_VERSION.to_le_bytes().to_vec();
+        bytes.extend_from_slice(&[0, 2, 0xFC]);
+        bytes.extend_from_slice(&(1u32 << 30).to_le_bytes());
+        bytes.extend_from_slice(b"evil");
+        bytes
+    }
+
+    #[test]
+    fn messages_of_every_size_tier_round_trip() {
+        for samples in [10usize, 1000, 20_000, 400_000, 1_000_000] {
+            let msg = FromWorker::Result(TaskResult {
+                id: TaskId(1),
+                outcome: Outcome::Ok(Outputs {
+                    scalars: vec![("y".into(), 1.0)],
+                    histories: vec![History {
+                        name: "s".into(),
+                        dt_s: 0.01,
+                        channels: vec!["a".into()],
+                        data: (0..samples).map(|i| i as f64).collect(),
+                    }],
+                }),
+                wall_s: 0.0,
+                host: "h".into(),
+            });
+            let back: FromWorker = decode(&encode(&msg).unwrap()).unwrap();
+            assert_eq!(back, msg, "{samples} samples");
+        }
+    }
+
+    #[test]
+    fn a_message_above_the_limit_is_refused_unread() {
+        let bytes = vec![0u8; MAX_MESSAGE_BYTES + 1];
+        let err = decode::<FromWorker>(&bytes).unwrap_err();
+        assert!(matches!(err, CodecError::TooLarge { limit: MAX_MESSAGE_BYTES, .. }), "{err}");
     }
 
     #[test]

@@ -80,6 +80,41 @@ impl Outputs {
     pub fn scalar(&self, name: &str) -> Option<f64> {
         self.scalars.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
     }
+
+    /// Why these outputs cannot be kept as numbers: the first NaN or
+    /// infinite scalar, else the first such sample of a history; `None`
+    /// when every value is finite.
+    pub fn non_finite(&self) -> Option<String> {
+        if let Some((name, v)) = self.scalars.iter().find(|(_, v)| !v.is_finite()) {
+            return Some(format!("non-finite output: {name} = {v}"));
+        }
+        self.histories.iter().find_map(History::non_finite)
+    }
+}
+
+impl History {
+    /// The first NaN or infinite sample, named by channel and row.
+    fn non_finite(&self) -> Option<String> {
+        let i = self.data.iter().position(|v| !v.is_finite())?;
+        let width = self.channels.len().max(1);
+        let channel = self.channels.get(i % width).map(String::as_str).unwrap_or("?");
+        let (name, row, v) = (&self.name, i / width, self.data[i]);
+        Some(format!("non-finite output: history {name}, channel {channel}, sample {row} = {v}"))
+    }
+}
+
+impl Outcome {
+    /// This outcome with non-finite outputs turned into a failure that
+    /// names the first one (a NaN is a failed run, not a number to keep).
+    pub fn finite_or_failed(self) -> Outcome {
+        match &self {
+            Outcome::Ok(out) => match out.non_finite() {
+                Some(reason) => Outcome::Failed { reason },
+                None => self,
+            },
+            Outcome::Failed { .. } => self,
+        }
+    }
 }
 
 /// The result of one run: outputs, or a failure kept as data.
@@ -153,4 +188,39 @@ pub enum FromWorker {
     },
     /// The worker stops; tasks it held are handed back.
     Goodbye,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outputs(y: f64, samples: Vec<f64>) -> Outputs {
+        let history = History {
+            name: "sensors".into(),
+            dt_s: 0.01,
+            channels: vec!["a".into(), "b".into()],
+            data: samples,
+        };
+        Outputs { scalars: vec![("x".into(), 1.0), ("y".into(), y)], histories: vec![history] }
+    }
+
+    #[test]
+    fn finite_outputs_stay_ok() {
+        let ok = Outcome::Ok(outputs(2.0, vec![0.0, 1.0, 2.0, 3.0]));
+        assert_eq!(ok.clone().finite_or_failed(), ok);
+    }
+
+    #[test]
+    fn nan_scalar_is_a_failure_naming_it() {
+        let out = Outcome::Ok(outputs(f64::NAN, vec![0.0; 4])).finite_or_failed();
+        assert_eq!(out, Outcome::Failed { reason: "non-finite output: y = NaN".into() });
+    }
+
+    #[test]
+    fn infinite_sample_is_a_failure_naming_channel_and_row() {
+        let out =
+            Outcome::Ok(outputs(1.0, vec![0.0, 1.0, 2.0, f64::NEG_INFINITY])).finite_or_failed();
+        let reason = "non-finite output: history sensors, channel b, sample 1 = -inf";
+        assert_eq!(out, Outcome::Failed { reason: reason.into() });
+    }
 }

@@ -51,7 +51,9 @@ pub fn safe_name(name: &str) -> String {
         .collect()
 }
 
-/// Opens a zenoh session: the coordinator listens (peer), workers connect (client).
+/// Opens a zenoh session: the coordinator listens (peer), workers connect
+/// (client); messages above [`crate::codec::MAX_MESSAGE_BYTES`] are dropped
+/// by zenoh before they are reassembled.
 pub fn open_session(endpoint: &str, listen: bool) -> Result<Session, TransportError> {
     let mut cfg = zenoh::Config::default();
     let ep = serde_json_string(endpoint);
@@ -67,6 +69,10 @@ pub fn open_session(endpoint: &str, listen: bool) -> Result<Session, TransportEr
         set(&mut cfg, "connect/exit_on_failure", "false")?;
     }
     set(&mut cfg, "scouting/multicast/enabled", "false")?;
+    // zenoh reassembles fragments up to 1 GiB by default; no message of ours
+    // is larger than the codec accepts.
+    let max = crate::codec::MAX_MESSAGE_BYTES.to_string();
+    set(&mut cfg, "transport/link/rx/max_message_size", &max)?;
     zenoh::open(cfg).wait().map_err(setup)
 }
 

@@ -1,4 +1,5 @@
-//! Running one task: the model call, with panics caught and kept as data.
+//! Running one task: the model call, with panics caught and non-finite
+//! outputs kept as data (failures with their reason).
 
 use crate::model::{Model, ParamSet, RunContext};
 use protocol::{Outcome, TaskId};
@@ -6,7 +7,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-/// Runs one task to an [`Outcome`]; errors and panics become `Failed`.
+/// Runs one task to an [`Outcome`]; errors, panics and NaN or infinite
+/// outputs become `Failed`.
 pub fn run_task(model: &dyn Model, names: &[String], id: TaskId, params: &[f64]) -> Outcome {
     run_task_with(model, names, &RunContext::new(id, Arc::new(AtomicBool::new(false))), params)
 }
@@ -23,7 +25,7 @@ pub fn run_task_with(
         model.run(&p, ctx)
     }));
     match result {
-        Ok(Ok(out)) => Outcome::Ok(out),
+        Ok(Ok(out)) => Outcome::Ok(out).finite_or_failed(),
         Ok(Err(e)) => Outcome::Failed { reason: e.to_string() },
         Err(payload) => Outcome::Failed { reason: format!("panic: {}", panic_message(&payload)) },
     }

@@ -156,7 +156,7 @@ pub fn read_table(path: &Path) -> anyhow::Result<Table> {
 
 /// The done runs of a store as a table of parameters then scalar outputs.
 pub fn store_table(path: &Path) -> anyhow::Result<Table> {
-    let store = coordinator::store::Store::open(path)?;
+    let store = coordinator::store::Store::open_read_only(path)?;
     let params = store.parameter_names()?;
     let scalars = store.scalar_names()?;
     let rows = store
@@ -272,7 +272,7 @@ fn training_table(a: &FitArgs) -> anyhow::Result<(Table, PathBuf)> {
 fn input_columns(a: &FitArgs) -> anyhow::Result<Vec<String>> {
     Ok(match (&a.store, a.inputs.is_empty()) {
         (_, false) => a.inputs.clone(),
-        (Some(s), true) => coordinator::store::Store::open(s)?.parameter_names()?,
+        (Some(s), true) => coordinator::store::Store::open_read_only(s)?.parameter_names()?,
         (None, true) => bail!("--inputs is required with a CSV file"),
     })
 }

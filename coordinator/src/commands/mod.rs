@@ -9,6 +9,7 @@ pub mod gp;
 pub mod pipeline;
 pub mod select;
 pub mod sobol;
+pub mod store;
 pub mod sweep;
 pub mod synth;
 pub mod worker;

@@ -75,7 +75,7 @@ fn emulator(a: &Args) -> anyhow::Result<(Problem, Evaluator, String)> {
     let output = a.output.clone().context("--output is required with --store or --csv")?;
     let (table, source, inputs) = match (&a.store, &a.csv) {
         (Some(s), _) => {
-            let names = coordinator::store::Store::open(s)?.parameter_names()?;
+            let names = coordinator::store::Store::open_read_only(s)?.parameter_names()?;
             let inputs = if a.inputs.is_empty() { names } else { a.inputs.clone() };
             (store_table(s)?, s.clone(), inputs)
         }

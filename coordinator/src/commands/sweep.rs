@@ -35,6 +35,7 @@ impl FarmArgs {
         Ok(SweepOptions {
             store,
             resume,
+            retry_failed: false,
             workers: self.workers,
             quiet: self.quiet,
             transport: self.transport,
@@ -55,6 +56,11 @@ pub struct RunArgs {
     /// (starts afresh if the store does not exist yet).
     #[arg(long)]
     pub resume: bool,
+    /// With --resume, also run again the tasks recorded as failed (model
+    /// errors, timeouts, tasks lost with their workers, non-finite outputs);
+    /// a new result replaces the failure.
+    #[arg(long, requires = "resume")]
+    pub retry_failed: bool,
     /// Workers, transport, progress.
     #[command(flatten)]
     pub farm: FarmArgs,
@@ -66,7 +72,8 @@ pub struct RunArgs {
 /// `ceilfarm run`.
 pub fn run(args: RunArgs) -> Result<()> {
     let study = Study::load(&args.study)?;
-    let opts = args.farm.options(args.store, args.resume)?;
+    let mut opts = args.farm.options(args.store, args.resume)?;
+    opts.retry_failed = args.retry_failed;
     let report = run_sweep(&study, &opts)?;
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
@@ -139,7 +146,7 @@ pub struct ExportArgs {
 
 /// `ceilfarm export`.
 pub fn export(args: ExportArgs) -> Result<()> {
-    let store = Store::open(&args.store)?;
+    let store = Store::open_read_only(&args.store)?;
     match args.format {
         ExportFormat::Csv => coordinator::export::export_csv(&store, &args.out)?,
         ExportFormat::Parquet => coordinator::export_parquet::export_parquet(&store, &args.out)?,
@@ -162,7 +169,7 @@ pub struct StatusArgs {
 
 /// `ceilfarm status`.
 pub fn status(args: StatusArgs) -> Result<()> {
-    let store = Store::open(&args.store)?;
+    let store = Store::open_read_only(&args.store)?;
     let (ok, failed, missing) = store.counts()?;
     let name = store.meta("study_name")?.unwrap_or_default();
     let hash = store.meta("study_hash")?.unwrap_or_default();

@@ -9,6 +9,11 @@ use super::lhs::latin_hypercube;
 use super::{sq_dist, UnitDesign};
 use rand::Rng;
 
+/// Largest maximin design (points): its n x n distance matrix then takes
+/// 128 MiB, and the annealing's O(n) moves a few seconds. Larger designs
+/// use `lhs` or `sobol`, whose memory grows as n x d.
+pub const MAX_POINTS: usize = 4096;
+
 /// Settings of the annealing.
 #[derive(Debug, Clone)]
 pub struct MaximinSettings {

@@ -1,5 +1,6 @@
 //! `test-faults`: a model that fails on purpose, to exercise how the farm
-//! records errors, panics and timeouts. Output `y` = sum of the parameters.
+//! records errors, panics, timeouts and non-finite outputs. Output `y` =
+//! sum of the parameters.
 
 use crate::model::{Model, ModelError, ParamSet, RunContext, RunError};
 use protocol::Outputs;
@@ -19,6 +20,12 @@ pub struct FaultOptions {
     /// Task ids whose run never finishes until cancelled.
     #[serde(default)]
     pub hang_on: Vec<u64>,
+    /// Task ids whose output `y` is NaN.
+    #[serde(default)]
+    pub nan_on: Vec<u64>,
+    /// Task ids whose output `y` is +infinity.
+    #[serde(default)]
+    pub inf_on: Vec<u64>,
 }
 
 /// The fault-injecting model.
@@ -51,6 +58,13 @@ impl Model for Faults {
             }
             return Err(RunError::Cancelled);
         }
-        Ok(Outputs { scalars: vec![("y".into(), p.values().iter().sum())], histories: vec![] })
+        let y = if self.opts.nan_on.contains(&id) {
+            f64::NAN
+        } else if self.opts.inf_on.contains(&id) {
+            f64::INFINITY
+        } else {
+            p.values().iter().sum()
+        };
+        Ok(Outputs { scalars: vec![("y".into(), y)], histories: vec![] })
     }
 }
