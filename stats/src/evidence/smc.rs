@@ -183,7 +183,7 @@ impl TemperedSmc {
                 acceptance: moved.1,
                 proposal_scale: scale,
                 evaluations: moved.0,
-                batches: o.mcmc_steps,
+                batches: moved.2,
             });
         }
         Ok(SmcRun {
@@ -198,7 +198,8 @@ impl TemperedSmc {
         })
     }
 
-    /// The stage's Metropolis steps; returns (evaluations, acceptance rate)
+    /// The stage's Metropolis steps; returns (evaluations, acceptance rate,
+    /// batches asked for: a step whose proposals all leave the support asks none)
     /// and steers `scale` toward the target acceptance after every step.
     #[allow(clippy::too_many_arguments)]
     fn move_population<P: Prior + ?Sized, E: std::error::Error + 'static>(
@@ -210,11 +211,11 @@ impl TemperedSmc {
         scale: &mut f64,
         beta: f64,
         rng: &mut ChaCha8Rng,
-    ) -> Result<(usize, f64), SmcError<E>> {
+    ) -> Result<(usize, f64, usize), SmcError<E>> {
         let o = &self.options;
         let n = pop.x.len();
         let base = 2.38 / (prior.dim().max(1) as f64).sqrt();
-        let (mut evaluations, mut accepted) = (0, 0);
+        let (mut evaluations, mut accepted, mut batches) = (0, 0, 0);
         for _ in 0..o.mcmc_steps {
             let y = propose(pop.x, factor, *scale, rng);
             let ln_p_y: Vec<f64> = y.iter().map(|yi| prior.ln_density(yi)).collect();
@@ -222,6 +223,7 @@ impl TemperedSmc {
             let asked: Vec<Vec<f64>> = inside.iter().map(|&i| y[i].clone()).collect();
             let got = if asked.is_empty() { Vec::new() } else { evaluate(ln_likelihood, &asked)? };
             evaluations += asked.len();
+            batches += usize::from(!asked.is_empty());
             let mut ln_l_y = vec![f64::NEG_INFINITY; n];
             for (k, &i) in inside.iter().enumerate() {
                 ln_l_y[i] = got[k];
@@ -231,7 +233,7 @@ impl TemperedSmc {
             let rate = a as f64 / n as f64;
             *scale = (*scale * (rate - o.target_acceptance).exp()).clamp(1e-3 * base, 10.0 * base);
         }
-        Ok((evaluations, accepted as f64 / (n * o.mcmc_steps).max(1) as f64))
+        Ok((evaluations, accepted as f64 / (n * o.mcmc_steps).max(1) as f64, batches))
     }
 }
 
