@@ -9,6 +9,7 @@ pub mod campaign;
 pub mod campaign_size;
 pub mod cause;
 pub mod channel_start;
+pub mod class_evidence;
 pub mod damping_form;
 pub mod damping_path;
 pub mod damping_share;

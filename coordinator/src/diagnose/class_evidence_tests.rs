@@ -1,0 +1,198 @@
+//! The class evidence of a small FE campaign (the tiny campaign: 2.4 m x
+//! 2.4 m, two 2 s calibration runs at 50 Hz, `modal.csv`; the baseline's
+//! two parameters) against brute-force quadrature of the same likelihood
+//! over the FE model itself, and the policy's refusals.
+
+use super::super::calibrate::{calibrate, evaluate_points, Budget};
+use super::super::cause::{Cause, BASELINE_PRIORS};
+use super::super::executor::ThreadExecutor;
+use super::super::farm_executor_tests::tiny_bundle;
+use super::super::fit::{effective_sizes, Evaluation};
+use super::super::pipeline::split_runs;
+use super::*;
+
+/// Cells (per axis) of each quadrature grid.
+const GRID: usize = 14;
+/// A grid's next box holds its cells within this many nats of its best.
+const WINDOW_NATS: f64 = 25.0;
+
+/// A box of the unit square: (low, high) per axis.
+type Box2 = [(f64, f64); 2];
+
+/// Midpoints of a `g` x `g` grid over `b`, row by row (x outer).
+fn midpoints(b: &Box2, g: usize) -> Vec<Vec<f64>> {
+    let at = |(lo, hi): (f64, f64), i: usize| lo + (hi - lo) * (i as f64 + 0.5) / g as f64;
+    (0..g).flat_map(|i| (0..g).map(move |j| vec![at(b[0], i), at(b[1], j)])).collect()
+}
+
+/// ln Σ exp(v_k) + ln w (−∞ for an empty or all −∞ sum).
+fn ln_sum(v: &[f64], ln_w: f64) -> f64 {
+    let m = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if m == f64::NEG_INFINITY {
+        return m;
+    }
+    m + v.iter().map(|x| (x - m).exp()).sum::<f64>().ln() + ln_w
+}
+
+/// Whether point `u` lies in box `b`.
+fn inside(b: &Box2, u: &[f64]) -> bool {
+    (0..2).all(|k| u[k] > b[k].0 && u[k] < b[k].1)
+}
+
+/// The box of `b`'s `g`-grid cells whose values are within [`WINDOW_NATS`]
+/// of the best, grown by one cell each way (inside the unit square).
+fn next_box(b: &Box2, g: usize, us: &[Vec<f64>], f: &[f64]) -> Box2 {
+    let best = f.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mut out = [(f64::INFINITY, f64::NEG_INFINITY); 2];
+    for (u, v) in us.iter().zip(f) {
+        if *v >= best - WINDOW_NATS {
+            for k in 0..2 {
+                let h = (b[k].1 - b[k].0) / g as f64;
+                out[k].0 = out[k].0.min(u[k] - 1.5 * h).max(0.0);
+                out[k].1 = out[k].1.max(u[k] + 1.5 * h).min(1.0);
+            }
+        }
+    }
+    out
+}
+
+/// ln ∫ exp(ln_l(u)) du over the unit square by nested midpoint grids: a
+/// [`GRID`]² grid over the square, then over the box of its cells near the
+/// best, and so on while the box shrinks to under half on some axis; the
+/// last box once more on a grid twice as fine. Each level's cells outside
+/// the next box count at their level's resolution (nothing is dropped).
+/// Returns ln Z, the last two grids' difference on the last box (the
+/// rule's error there) and the evaluations spent.
+fn quadrature(ln_l: &mut dyn FnMut(&[Vec<f64>]) -> Vec<f64>) -> (f64, f64, usize) {
+    let mut b: Box2 = [(0.0, 1.0), (0.0, 1.0)];
+    let mut outside = Vec::new();
+    let mut spent = 0;
+    for _ in 0..12 {
+        let us = midpoints(&b, GRID);
+        let f = ln_l(&us);
+        spent += us.len();
+        let ln_cell = ((b[0].1 - b[0].0) * (b[1].1 - b[1].0) / (GRID * GRID) as f64).ln();
+        let nb = next_box(&b, GRID, &us, &f);
+        let shrinks = (0..2).any(|k| nb[k].1 - nb[k].0 < 0.5 * (b[k].1 - b[k].0));
+        if !shrinks {
+            let coarse = ln_sum(&f, ln_cell);
+            let fine_us = midpoints(&b, 2 * GRID);
+            let fine = ln_sum(&ln_l(&fine_us), ln_cell - 4f64.ln());
+            spent += fine_us.len();
+            let total = ln_sum(&[outside, vec![fine]].concat(), 0.0);
+            return (total, (fine - coarse).abs(), spent);
+        }
+        let out: Vec<f64> =
+            us.iter().zip(&f).filter(|(u, _)| !inside(&nb, u)).map(|(_, v)| *v).collect();
+        outside.push(ln_sum(&out, ln_cell));
+        b = nb;
+    }
+    panic!("the quadrature's box still shrank after 12 grids: {b:?}");
+}
+
+/// ln L of the baseline class on the tiny campaign's calibration runs at
+/// unit-cube points, through `exec`, under weights `n_eff`.
+fn exact_ln_l(
+    ev: &Evaluation<'_>,
+    n_eff: &[f64],
+    exec: &mut dyn FeExecutor,
+    us: &[Vec<f64>],
+) -> Vec<f64> {
+    let pts = evaluate_points(ev, us, exec).unwrap();
+    pts.iter().map(|p| -p.neg_log_lik(n_eff)).collect()
+}
+
+#[test]
+fn evidence_of_a_small_fe_campaign_matches_quadrature_over_the_fe_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = tiny_bundle(dir.path());
+    let (cal_runs, _) = split_runs(&b);
+    let priors = BASELINE_PRIORS.to_vec();
+    let ev = Evaluation::baseline(&b, &priors, &cal_runs);
+    let mut exec = ThreadExecutor::new(2);
+    // The channel weights: the residuals' at the prior's centre, held fixed.
+    let centre = evaluate_points(&ev, &[vec![0.5, 0.5]], &mut exec).unwrap();
+    let n_eff = effective_sizes(centre[0].fit.as_ref().unwrap());
+
+    let t = std::time::Instant::now();
+    let (ln_z_quad, quad_err, quad_runs) =
+        quadrature(&mut |us| exact_ln_l(&ev, &n_eff, &mut exec, us));
+    let quad_s = t.elapsed().as_secs_f64();
+    let t = std::time::Instant::now();
+    let budget = Budget { threads: 2, ..Budget::default() };
+    let class = (Cause::None, &priors[..]);
+    let cal =
+        calibrate(&b, class, &cal_runs, &n_eff, &budget, None, &mut exec, &mut |_, _| {}).unwrap();
+    let policy = EvidencePolicy::default();
+    let got = class_evidence(&cal, (&b, &cal_runs), &n_eff, &mut exec, &policy).unwrap();
+    let smc_s = t.elapsed().as_secs_f64();
+    eprintln!(
+        "quadrature ln Z {ln_z_quad:.3} (grid difference {quad_err:.3}, {quad_runs} FE points, {quad_s:.1} s); \
+         class_evidence {:.3} ± {:.3} (k̂ {:.2}, converged {}, Laplace {:.3}; {} + {} FE points, {} rounds, {smc_s:.1} s)",
+        got.ln_evidence,
+        got.ln_evidence_sd,
+        got.k_hat,
+        got.converged,
+        got.laplace_ln_evidence,
+        cal.fe_points(),
+        got.fe_points,
+        got.rounds.len(),
+    );
+    for (k, r) in got.rounds.iter().enumerate() {
+        eprintln!("  round {}: {r:?}", k + 1);
+    }
+    assert!(quad_err < 0.1, "the quadrature itself is unresolved: {quad_err}");
+    assert!(got.converged, "{:?}", got.rounds);
+    let diff = got.ln_evidence - ln_z_quad;
+    assert!(
+        diff.abs() <= 1.0,
+        "ln Z {} vs quadrature {ln_z_quad}: {diff:+.3} nat",
+        got.ln_evidence
+    );
+    let spent = cal.fe_points() + got.fe_points;
+    assert!(spent < quad_runs / 4, "{spent} FE points vs the quadrature's {quad_runs}");
+
+    // A start whose curvature is wrong by a factor of 30 either way (a
+    // Laplace form 5.5 times too wide or too narrow): the rounds must still
+    // reach the quadrature's evidence.
+    for factor in [1.0 / 30.0, 30.0] {
+        let mut off = cal.clone();
+        off.gauss_newton = off.gauss_newton.map(|h| h * factor);
+        let got = class_evidence(&off, (&b, &cal_runs), &n_eff, &mut exec, &policy).unwrap();
+        eprintln!(
+            "curvature x {factor:.3}: {:.3} ± {:.3} (k̂ {:.2}, converged {}, Laplace {:.3}; {} FE points, {} rounds)",
+            got.ln_evidence,
+            got.ln_evidence_sd,
+            got.k_hat,
+            got.converged,
+            got.laplace_ln_evidence,
+            got.fe_points,
+            got.rounds.len()
+        );
+        for (k, r) in got.rounds.iter().enumerate() {
+            eprintln!("  round {}: {r:?}", k + 1);
+        }
+        assert!(got.converged, "curvature x {factor}: {:?}", got.rounds);
+        let diff = got.ln_evidence - ln_z_quad;
+        assert!(diff.abs() <= 1.0, "curvature x {factor}: {diff:+.3} nat");
+    }
+}
+
+#[test]
+fn a_policy_out_of_range_is_refused_with_its_key() {
+    let bad = [
+        EvidencePolicy { rounds: 1, ..EvidencePolicy::default() },
+        EvidencePolicy { checks: 1, ..EvidencePolicy::default() },
+        EvidencePolicy { floor_nats: (0.0, 10.0), ..EvidencePolicy::default() },
+        EvidencePolicy { floor_nats: (20.0, f64::NAN), ..EvidencePolicy::default() },
+    ];
+    let keys = ["rounds", "checks", "floor_nats", "floor_nats"];
+    for (p, key) in bad.iter().zip(keys) {
+        match p.check() {
+            Err(ClassEvidenceError::Policy { key: k, .. }) => assert_eq!(k, key),
+            other => panic!("{key}: {other:?}"),
+        }
+    }
+    assert!(EvidencePolicy::default().check().is_ok());
+    assert_eq!(EvidencePolicy::default().floor(2), 40.0);
+}
