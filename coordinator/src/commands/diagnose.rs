@@ -9,6 +9,7 @@ use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
 use coordinator::bundle::Bundle;
 use coordinator::diagnose::calibrate::Budget;
+use coordinator::diagnose::class_evidence::EvidencePolicy;
 use coordinator::diagnose::damping_path::DampingPathUse;
 use coordinator::diagnose::evidence::evidence;
 use coordinator::diagnose::executor::FeExecutor;
@@ -76,6 +77,12 @@ pub struct Args {
     /// form and calibrates the perimeter stiffness and damping alone.
     #[arg(long, conflicts_with = "linear_only")]
     pub no_linear_stage: bool,
+    /// Also compute every calibrated class's evidence p(data | class) and
+    /// posterior probability (tempered SMC on an emulator of ln L, checked
+    /// by FE runs; about 80 to 160 more FE runs a class) and write them to
+    /// diagnosis.json beside the verdict, which they do not change.
+    #[arg(long, conflicts_with = "linear_only")]
+    pub evidence: bool,
     /// Run the linear stage only: print its fit of the weakest runs and
     /// `modal.csv` and write it to OUT/linear.json.
     #[arg(long)]
@@ -110,7 +117,12 @@ pub fn run(a: Args) -> Result<()> {
     if !(rate >= 0.0 && rate.is_finite()) {
         anyhow::bail!("--simulation-rate-hz {rate}: expected a rate in Hz, or 0 for none");
     }
-    let opts = DiagnoseOptions { budget, linear_stage: !a.no_linear_stage, ..Default::default() };
+    let opts = DiagnoseOptions {
+        budget,
+        linear_stage: !a.no_linear_stage,
+        evidence: a.evidence.then(EvidencePolicy::default),
+        ..Default::default()
+    };
     if a.linear_only {
         let at = parse_values(&a.linear_at)?;
         return linear_only(&a.bundle, &a.out, &opts, (rate > 0.0).then_some(rate), &at);

@@ -152,11 +152,14 @@ fn evidence_of_a_small_fe_campaign_matches_quadrature_over_the_fe_model() {
     let spent = cal.fe_points() + got.fe_points;
     assert!(spent < quad_runs / 4, "{spent} FE points vs the quadrature's {quad_runs}");
 
-    // A start whose curvature is wrong by a factor of 30 either way (a
+    // A start with its best point alone (no other point to refit the
+    // quadratic from) and a curvature wrong by a factor of 30 either way (a
     // Laplace form 5.5 times too wide or too narrow): the rounds must still
     // reach the quadrature's evidence.
+    let best = cal.best(&n_eff).unwrap();
     for factor in [1.0 / 30.0, 30.0] {
         let mut off = cal.clone();
+        off.points = vec![cal.points[best].clone()];
         off.gauss_newton = off.gauss_newton.map(|h| h * factor);
         let got = class_evidence(&off, (&b, &cal_runs), &n_eff, &mut exec, &policy).unwrap();
         eprintln!(

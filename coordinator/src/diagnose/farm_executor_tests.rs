@@ -6,6 +6,7 @@
 
 use super::calibrate::Budget;
 use super::cause::{Cause, Demand};
+use super::class_evidence::EvidencePolicy;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
 use super::farm_executor::{FarmExecutor, FarmPlan};
 use super::fit::Evaluation;
@@ -26,7 +27,8 @@ pub(crate) fn tiny_bundle(dir: &std::path::Path) -> Bundle {
     read_bundle(&out).unwrap()
 }
 
-/// A budget of a few FE points per variant.
+/// A budget of a few FE points per variant, and each class's evidence
+/// (400 particles a run).
 pub(crate) fn tiny_options() -> DiagnoseOptions {
     DiagnoseOptions {
         budget: Budget {
@@ -43,6 +45,10 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
         },
         candidates: vec![Cause::None, Cause::PerimeterPounding],
         linear_stage: false,
+        evidence: Some(EvidencePolicy {
+            smc: stats::evidence::SmcOptions { particles: 400, ..Default::default() },
+            ..EvidencePolicy::default()
+        }),
     }
 }
 
@@ -113,6 +119,10 @@ fn farm_matches_threads_and_a_stopped_diagnosis_resumes_from_its_store() {
     let mut threads = ThreadExecutor::new(2);
     let want = diagnose_with(&b, &opts, &mut threads, &mut |_, _, _| {}).unwrap();
     let total = threads.simulated();
+    for c in &want.candidates {
+        let odds = c.odds.as_ref().expect("asked for").as_ref().expect("computed");
+        eprintln!("{}: {odds:?}", c.cause.as_str());
+    }
     let t_threads = t0.elapsed().as_secs_f64();
 
     let t0 = std::time::Instant::now();

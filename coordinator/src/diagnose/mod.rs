@@ -10,6 +10,7 @@ pub mod campaign_size;
 pub mod cause;
 pub mod channel_start;
 pub mod class_evidence;
+pub mod class_odds;
 pub mod damping_form;
 pub mod damping_path;
 pub mod damping_share;

@@ -10,6 +10,8 @@ use super::calibrate::{calibrate, evaluate_points, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
+use super::class_evidence::EvidencePolicy;
+use super::class_odds::{class_odds, ClassOdds};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
 use super::ensemble;
@@ -39,6 +41,10 @@ pub struct DiagnoseOptions {
     /// Whether the linear stage ([`super::linear_stage`]) fits the
     /// specimen's linear form first (on a single-layer ceiling).
     pub linear_stage: bool,
+    /// When set, every calibrated class's evidence and posterior
+    /// probability ([`super::class_odds`]) by this policy, reported beside
+    /// the verdict (which it does not change); None: not computed.
+    pub evidence: Option<EvidencePolicy>,
 }
 
 impl Default for DiagnoseOptions {
@@ -47,6 +53,7 @@ impl Default for DiagnoseOptions {
             budget: Budget::default(),
             candidates: Cause::ALL.to_vec(),
             linear_stage: true,
+            evidence: None,
         }
     }
 }
@@ -119,6 +126,9 @@ pub struct CandidateResult {
     /// The variational posterior (selected variant only), or why it could
     /// not be had.
     pub posterior: Option<Result<VariationalPosterior, String>>,
+    /// Its evidence and posterior probability among the classes, or why
+    /// the evidence could not be had (None: not asked for).
+    pub odds: Option<Result<ClassOdds, String>>,
 }
 
 impl CandidateResult {
@@ -146,6 +156,7 @@ impl CandidateResult {
             modal: None,
             selected: false,
             posterior: None,
+            odds: None,
         }
     }
 
@@ -303,6 +314,15 @@ pub fn diagnose_with(
     results[pick].fe_points += post.as_ref().ok().and_then(|p| p.check).map_or(0, |c| c.fe_points);
     results[pick].posterior = Some(post);
     progress("posterior (BBVI, checked by FE runs)", 1, 1);
+    if let Some(policy) = &opts.evidence {
+        let stage = "class evidence (tempered SMC, checked by FE runs)";
+        let mut report = |done, planned| progress(stage, done, planned);
+        let odds = class_odds(&v.cals, (b, &cal_runs), &n_eff, exec, policy, &mut report)?;
+        for (r, o) in results.iter_mut().zip(odds) {
+            r.fe_points += o.as_ref().map_or(0, |o| o.fe_points);
+            r.odds = Some(o);
+        }
+    }
     let mut d = conclude(b, results, pick, (cal_runs, val_runs));
     d.channels = v.channels;
     d.linear = linear;

@@ -57,6 +57,79 @@ pub struct CandidateJson {
     /// The variational posterior (chosen variant only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub posterior: Option<PosteriorJson>,
+    /// Its evidence and posterior probability among the classes
+    /// (`diagnose --evidence`); absent when not asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub evidence: Option<EvidenceJson>,
+}
+
+/// A class's evidence as written (`super::class_odds`).
+#[derive(Debug, Clone, Serialize)]
+pub struct EvidenceJson {
+    /// How it was computed.
+    pub method: String,
+    /// ln p(data | class) (nats).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ln_evidence: Option<f64>,
+    /// Its standard error (nats).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ln_evidence_sd: Option<f64>,
+    /// Posterior probability among the classes (equal prior odds).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub probability: Option<f64>,
+    /// Pareto k̂ of the last FE correction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_hat: Option<f64>,
+    /// Whether its rounds met their stop rule.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub converged: Option<bool>,
+    /// The Laplace approximation at the estimate (nats), for comparison.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub laplace_ln_evidence: Option<f64>,
+    /// FE parameter points the evidence ran.
+    pub fe_points: usize,
+    /// Each round: emulated ln Z, corrected ln Z, its standard error, k̂
+    /// (null where every check failed).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub rounds: Vec<[Option<f64>; 4]>,
+    /// Why there is no evidence.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_computable: Option<String>,
+}
+
+/// The method line of a class evidence.
+pub const EVIDENCE_METHOD: &str = "tempered SMC on an emulator of ln L (Laplace quadratic at the \
+    estimate plus a GP of the residual), corrected by FE runs at its posterior draws until two \
+    rounds agree";
+
+fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Option<EvidenceJson> {
+    let method = EVIDENCE_METHOD.to_string();
+    Some(match o.as_ref()? {
+        Ok(o) => EvidenceJson {
+            method,
+            ln_evidence: Some(o.ln_evidence),
+            ln_evidence_sd: Some(o.ln_evidence_sd),
+            probability: Some(o.probability),
+            k_hat: Some(o.k_hat),
+            converged: Some(o.converged),
+            laplace_ln_evidence: Some(o.laplace_ln_evidence),
+            fe_points: o.fe_points,
+            rounds: o.rounds.iter().map(|r| r.map(|v| v.is_finite().then_some(v))).collect(),
+            not_computable: None,
+        },
+        Err(why) => EvidenceJson {
+            method,
+            ln_evidence: None,
+            ln_evidence_sd: None,
+            probability: None,
+            k_hat: None,
+            converged: None,
+            laplace_ln_evidence: None,
+            fe_points: 0,
+            rounds: vec![],
+            not_computable: Some(why.clone()),
+        },
+    })
 }
 
 /// A candidate's frequencies against the identified ones.
@@ -321,6 +394,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                     neg_log_lik: m.neg_log_lik,
                 }),
                 posterior: posterior_json(&c.posterior),
+                evidence: evidence_json(&c.odds),
             })
             .collect(),
         baseline_validation_error: d.baseline_validation_error,

@@ -1,0 +1,119 @@
+//! The posterior probability of each calibrated model class: its evidence
+//! ([`super::class_evidence`]) times its prior odds, normalised over the
+//! classes tried. Equal prior odds by default: no class is favoured before
+//! the data; the evidence's own Occam factor (each parameter's prior
+//! volume) is the only penalty on complexity.
+//!
+//! Reported beside the verdict, which the MDL rules still decide: the
+//! evidence is measured on campaigns before it is asked to choose.
+
+use super::calibrate::Calibration;
+use super::class_evidence::{class_evidence, ClassEvidence, EvidencePolicy, EvidenceRound};
+use super::executor::{ExecutorError, FeExecutor};
+use crate::bundle::Bundle;
+
+/// A class's evidence as the diagnosis keeps it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClassOdds {
+    /// ln p(data | class) (nat).
+    pub ln_evidence: f64,
+    /// Its standard error (nat).
+    pub ln_evidence_sd: f64,
+    /// Pareto k̂ of its last FE correction.
+    pub k_hat: f64,
+    /// Whether the rounds met their stop rule.
+    pub converged: bool,
+    /// The Laplace approximation of ln Z at the calibration's estimate (nat).
+    pub laplace_ln_evidence: f64,
+    /// FE parameter points the evidence ran.
+    pub fe_points: usize,
+    /// Each round's emulated ln Z, corrected ln Z (NaN: every check
+    /// failed), its standard error and Pareto k̂ (nat, nat, nat, -).
+    pub rounds: Vec<[f64; 4]>,
+    /// Posterior probability among the classes whose evidence was had
+    /// (equal prior odds).
+    pub probability: f64,
+}
+
+impl ClassOdds {
+    fn of(e: &ClassEvidence) -> Self {
+        ClassOdds {
+            ln_evidence: e.ln_evidence,
+            ln_evidence_sd: e.ln_evidence_sd,
+            k_hat: e.k_hat,
+            converged: e.converged,
+            laplace_ln_evidence: e.laplace_ln_evidence,
+            fe_points: e.fe_points,
+            rounds: e.rounds.iter().map(round_row).collect(),
+            probability: f64::NAN,
+        }
+    }
+}
+
+/// One round as [`ClassOdds::rounds`] keeps it.
+fn round_row(r: &EvidenceRound) -> [f64; 4] {
+    match &r.corrected {
+        Some(c) => [r.emulated.0, c.ln_evidence, c.ln_evidence_sd, c.k_hat],
+        None => [r.emulated.0, f64::NAN, f64::NAN, f64::NAN],
+    }
+}
+
+/// The evidence of each calibration in `cals` on `runs` of `bundle`
+/// (channel weights `n_eff`), each with its posterior probability among
+/// those that have one; a class whose evidence failed carries why.
+/// `progress` hears (done, planned).
+pub fn class_odds(
+    cals: &[Calibration],
+    (bundle, runs): (&Bundle, &[usize]),
+    n_eff: &[f64],
+    exec: &mut dyn FeExecutor,
+    policy: &EvidencePolicy,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<Result<ClassOdds, String>>, ExecutorError> {
+    let mut out = Vec::with_capacity(cals.len());
+    for (k, cal) in cals.iter().enumerate() {
+        progress(k, cals.len());
+        out.push(match class_evidence(cal, (bundle, runs), n_eff, exec, policy) {
+            Ok(e) => Ok(ClassOdds::of(&e)),
+            Err(super::class_evidence::ClassEvidenceError::Executor(e)) => return Err(e),
+            Err(e) => Err(e.to_string()),
+        });
+    }
+    progress(cals.len(), cals.len());
+    let ln_z: Vec<f64> =
+        out.iter().map(|o| o.as_ref().map_or(f64::NAN, |o| o.ln_evidence)).collect();
+    for (o, p) in out.iter_mut().zip(probabilities(&ln_z)) {
+        if let Ok(o) = o {
+            o.probability = p;
+        }
+    }
+    Ok(out)
+}
+
+/// Posterior probabilities under equal prior odds from log-evidences
+/// (NaN entries have none and take no share).
+pub fn probabilities(ln_z: &[f64]) -> Vec<f64> {
+    let top = ln_z.iter().copied().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
+    if !top.is_finite() {
+        return vec![f64::NAN; ln_z.len()];
+    }
+    let w: Vec<f64> = ln_z.iter().map(|v| if v.is_nan() { 0.0 } else { (v - top).exp() }).collect();
+    let sum: f64 = w.iter().sum();
+    ln_z.iter().zip(&w).map(|(v, w)| if v.is_nan() { f64::NAN } else { w / sum }).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::probabilities;
+
+    #[test]
+    fn probabilities_follow_the_evidence_ratios_and_skip_missing_classes() {
+        let p = probabilities(&[0.0, 2f64.ln(), f64::NAN]);
+        assert!((p[0] - 1.0 / 3.0).abs() < 1e-12 && (p[1] - 2.0 / 3.0).abs() < 1e-12);
+        assert!(p[2].is_nan());
+        // Evidences of thousands of nats do not overflow.
+        let p = probabilities(&[-5000.0, -5001.0]);
+        assert!((p[0] - 1.0 / (1.0 + (-1f64).exp())).abs() < 1e-12);
+        assert!(probabilities(&[f64::NAN]).iter().all(|v| v.is_nan()));
+    }
+}
