@@ -34,6 +34,7 @@ pub mod posterior_check;
 pub mod reach;
 pub mod refine;
 pub mod report;
+pub mod report_evidence;
 pub mod report_linear;
 pub mod report_posterior;
 pub mod report_symptoms;

@@ -11,6 +11,7 @@ use super::damping_form::FORM_NATS;
 use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated, DAMPING_MASS_SHARE};
 use super::pipeline::{CandidateResult, Diagnosis, LINEAR_PART_NATS, MISFIT_NATS, TIE_NATS};
+use super::report_evidence::evidence_section;
 use super::report_linear::linear_section;
 use super::report_posterior::posterior_section;
 use super::report_symptoms::symptoms_section;
@@ -57,10 +58,11 @@ pub fn render(b: &Bundle, d: &Diagnosis, e: &Evidence, resampled: &[Decimated]) 
             specimen_section(b, &telling, resampled),
             symptoms_section(e),
             comparison_section(d),
-            parameters_section(d),
-            posterior_section(d),
-            histories_section(b, d, &telling),
-        ],
+        ]
+        .into_iter()
+        .chain(evidence_section(d))
+        .chain([parameters_section(d), posterior_section(d), histories_section(b, d, &telling)])
+        .collect(),
     };
     page.to_html()
 }

@@ -98,9 +98,9 @@ pub struct EvidenceJson {
 }
 
 /// The method line of a class evidence.
-pub const EVIDENCE_METHOD: &str = "tempered SMC on an emulator of ln L (Laplace quadratic at the \
-    estimate plus a GP of the residual), corrected by FE runs at its posterior draws until two \
-    rounds agree";
+pub const EVIDENCE_METHOD: &str = "tempered SMC on an emulator of ln L (a quadratic, the \
+    Laplace form at the estimate refitted to the FE runs, plus a GP of the residual), corrected by \
+    FE runs at its posterior draws until two rounds agree";
 
 fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Option<EvidenceJson> {
     let method = EVIDENCE_METHOD.to_string();

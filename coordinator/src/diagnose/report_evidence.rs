@@ -1,0 +1,138 @@
+//! The report's class-evidence section (`diagnose --evidence`): each
+//! calibrated class's ln p(data | class) against the best, its error, its
+//! posterior probability and how the estimate settled, as a table and a
+//! bar chart of the log Bayes factors against the best class.
+
+use super::class_odds::ClassOdds;
+use super::pipeline::Diagnosis;
+use super::verdict::EVIDENCE_METHOD;
+use crate::report::{bar_chart, BarChart, BarGroup, Block, PlotSize, Section, Table};
+
+/// The section, when any class's evidence was asked for.
+pub fn evidence_section(d: &Diagnosis) -> Option<Section> {
+    let odds: Vec<Option<&Result<ClassOdds, String>>> =
+        d.candidates.iter().map(|c| c.odds.as_ref()).collect();
+    if odds.iter().all(Option::is_none) {
+        return None;
+    }
+    let best = (odds.iter().flatten().filter_map(|o| o.as_ref().ok()))
+        .map(|o| o.ln_evidence)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let rows =
+        d.candidates.iter().zip(&odds).map(|(c, o)| row(c.cause.as_str(), *o, best)).collect();
+    let factors: Vec<f64> = odds
+        .iter()
+        .map(|o| o.and_then(|o| o.as_ref().ok()).map_or(f64::NAN, |o| o.ln_evidence - best))
+        .collect();
+    let chart = bar_chart(&BarChart {
+        title: "Evidence of each model class against the best".into(),
+        x_label: "model class".into(),
+        y_label: "ln Z − ln Z(best) (nats)".into(),
+        categories: d.candidates.iter().map(|c| c.cause.as_str().into()).collect(),
+        groups: vec![BarGroup { name: "ln Bayes factor".into(), values: factors }],
+        highlight: d.candidates.iter().position(|c| c.selected),
+        size: PlotSize::default(),
+    });
+    let blocks = vec![
+        Block::Paragraph(format!(
+            "{EVIDENCE_METHOD}. Probabilities under equal prior odds. The verdict above does not \
+             use them yet: without a model-discrepancy term in the likelihood, an extension's \
+             freedom buys nats from any misfit of the baseline."
+        )),
+        Block::Table(Table {
+            caption: "ln Z relative to the best class (nats); sd its standard error; k̂ the Pareto \
+                      shape of the last FE correction (above 0.7 with ratios that vary: not \
+                      trusted)."
+                .into(),
+            header: [
+                "class",
+                "ln Z − best",
+                "sd",
+                "probability",
+                "k̂",
+                "settled",
+                "Laplace − best",
+                "FE points",
+            ]
+            .map(String::from)
+            .to_vec(),
+            rows,
+            highlight_row: d.candidates.iter().position(|c| c.selected),
+        }),
+        Block::figure("Log Bayes factor of each class against the best.", chart),
+    ];
+    Some(Section { id: "evidence".into(), heading: "Model classes: evidence".into(), blocks })
+}
+
+/// One table row.
+fn row(cause: &str, o: Option<&Result<ClassOdds, String>>, best: f64) -> Vec<String> {
+    match o {
+        Some(Ok(o)) => vec![
+            cause.into(),
+            format!("{:.2}", o.ln_evidence - best),
+            format!("{:.2}", o.ln_evidence_sd),
+            format!("{:.3}", o.probability),
+            format!("{:.2}", o.k_hat),
+            if o.converged { "yes".into() } else { format!("no ({} rounds)", o.rounds.len()) },
+            format!("{:.2}", o.laplace_ln_evidence - best),
+            o.fe_points.to_string(),
+        ],
+        Some(Err(why)) => {
+            let mut r = vec![cause.to_string(), format!("not computable: {why}")];
+            r.extend(std::iter::repeat_n("–".to_string(), 6));
+            r
+        }
+        None => {
+            let mut r = vec![cause.to_string(), "not computed".into()];
+            r.extend(std::iter::repeat_n("–".to_string(), 6));
+            r
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::cause::Cause;
+    use crate::diagnose::pipeline::CandidateResult;
+
+    fn odds(ln_z: f64, p: f64) -> ClassOdds {
+        ClassOdds {
+            ln_evidence: ln_z,
+            ln_evidence_sd: 0.1,
+            k_hat: 0.3,
+            converged: true,
+            laplace_ln_evidence: ln_z - 0.2,
+            fe_points: 80,
+            rounds: vec![[ln_z, ln_z, 0.1, 0.3]; 2],
+            probability: p,
+        }
+    }
+
+    #[test]
+    fn the_section_lists_each_class_against_the_best_and_is_absent_unasked() {
+        let (_, mut d) = crate::diagnose::testkit::pounding_diagnosis(true, false);
+        assert!(evidence_section(&d).is_none());
+        d.candidates = vec![
+            CandidateResult {
+                odds: Some(Ok(odds(100.0, 0.0))),
+                ..CandidateResult::unassessed(Cause::None, None)
+            },
+            CandidateResult {
+                odds: Some(Ok(odds(130.0, 1.0))),
+                ..CandidateResult::unassessed(Cause::PerimeterPounding, None)
+            },
+            CandidateResult {
+                odds: Some(Err("no Gauss–Newton matrix".into())),
+                ..CandidateResult::unassessed(Cause::PerimeterFriction, None)
+            },
+        ];
+        let s = evidence_section(&d).expect("asked for");
+        let Block::Table(t) = &s.blocks[1] else { panic!("{:?}", s.blocks[1]) };
+        assert_eq!(t.rows[0][1], "-30.00");
+        assert_eq!(t.rows[1][1], "0.00");
+        assert_eq!(t.rows[1][3], "1.000");
+        assert!(t.rows[2][1].contains("no Gauss–Newton matrix"), "{:?}", t.rows[2]);
+        assert!(t.rows.iter().all(|r| r.len() == t.header.len()));
+    }
+}
