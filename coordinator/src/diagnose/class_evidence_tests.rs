@@ -10,6 +10,7 @@ use super::super::farm_executor_tests::tiny_bundle;
 use super::super::fit::{effective_sizes, Evaluation};
 use super::super::pipeline::split_runs;
 use super::*;
+use nalgebra::{DMatrix, DVector};
 
 /// Cells (per axis) of each quadrature grid.
 const GRID: usize = 14;
@@ -198,4 +199,68 @@ fn a_policy_out_of_range_is_refused_with_its_key() {
     }
     assert!(EvidencePolicy::default().check().is_ok());
     assert_eq!(EvidencePolicy::default().floor(2), 40.0);
+}
+
+/// A Laplace form at `mode` with curvature `h` (unit cube).
+fn laplace_at(mode: Vec<f64>, value: f64, h: DMatrix<f64>) -> Laplace {
+    let lt = h.cholesky().unwrap().l().transpose();
+    Laplace { mode: (mode, value), lt }
+}
+
+#[test]
+fn a_refit_recovers_an_exact_quadratic_from_another_start() {
+    // ln L = 10 − ½ (u − c)ᵀ H (u − c), sampled on a grid about c; the
+    // start is off in place (0.05) and curvature (4 and 1/4 per axis).
+    let c = [0.42, 0.57];
+    let h = DMatrix::from_row_slice(2, 2, &[900.0, 200.0, 200.0, 400.0]);
+    let ln_l = |u: &[f64]| {
+        let du = DVector::from_iterator(2, u.iter().zip(c).map(|(a, b)| a - b));
+        10.0 - 0.5 * (du.transpose() * &h * &du)[0]
+    };
+    let ledger: Vec<Entry> = (0..7)
+        .flat_map(|i| {
+            (0..7)
+                .map(move |j| vec![c[0] + 0.02 * (i as f64 - 3.0), c[1] + 0.03 * (j as f64 - 3.0)])
+        })
+        .map(|u| {
+            let v = ln_l(&u);
+            (u, v, true)
+        })
+        .collect();
+    let start = laplace_at(
+        vec![0.47, 0.52],
+        9.0,
+        DMatrix::from_diagonal(&DVector::from_vec(vec![3600.0, 100.0])),
+    );
+    let got = start.refit(&ledger, 100.0).expect("49 points, 6 coefficients");
+    assert!((got.mode.1 - 10.0).abs() < 1e-8, "{}", got.mode.1);
+    for k in 0..2 {
+        assert!((got.mode.0[k] - c[k]).abs() < 1e-8, "{:?}", got.mode.0);
+    }
+    let hu = got.lt.transpose() * &got.lt;
+    assert!((hu - &h).abs().max() < 1e-6 * h.abs().max(), "{}", got.lt);
+    // Laplace's ln Z of a Gaussian: 10 + ln 2π − ½ ln det H.
+    let want = 10.0 + (2.0 * std::f64::consts::PI).ln() - 0.5 * h.determinant().ln();
+    assert!((got.ln_evidence() - want).abs() < 1e-8);
+}
+
+#[test]
+fn a_refit_is_refused_when_too_few_points_convex_or_peaking_outside_them() {
+    let start = laplace_at(vec![0.5, 0.5], 0.0, DMatrix::identity(2, 2) * 100.0);
+    let grid = |f: &dyn Fn(f64, f64) -> f64| -> Vec<Entry> {
+        (0..5)
+            .flat_map(|i| (0..5).map(move |j| (0.4 + 0.05 * i as f64, 0.4 + 0.05 * j as f64)))
+            .map(|(x, y)| (vec![x, y], f(x, y), true))
+            .collect()
+    };
+    // Eleven points for six coefficients: too few.
+    let few: Vec<Entry> =
+        grid(&|x, y| -(x - 0.5).powi(2) - (y - 0.5).powi(2)).into_iter().take(11).collect();
+    assert!(start.refit(&few, 100.0).is_none());
+    // A bowl (convex): no maximum.
+    assert!(start.refit(&grid(&|x, y| (x - 0.5).powi(2) + (y - 0.5).powi(2)), 100.0).is_none());
+    // A peak at (0.9, 0.5), beyond the points (0.4 to 0.6).
+    assert!(start
+        .refit(&grid(&|x, y| -50.0 * (x - 0.9).powi(2) - 50.0 * (y - 0.5).powi(2)), 100.0)
+        .is_none());
 }
