@@ -234,8 +234,8 @@ fn a_refit_recovers_an_exact_quadratic_from_another_start() {
     );
     let got = start.refit(&ledger, 100.0).expect("49 points, 6 coefficients");
     assert!((got.mode.1 - 10.0).abs() < 1e-8, "{}", got.mode.1);
-    for k in 0..2 {
-        assert!((got.mode.0[k] - c[k]).abs() < 1e-8, "{:?}", got.mode.0);
+    for (got_k, c_k) in got.mode.0.iter().zip(c) {
+        assert!((got_k - c_k).abs() < 1e-8, "{:?}", got.mode.0);
     }
     let hu = got.lt.transpose() * &got.lt;
     assert!((hu - &h).abs().max() < 1e-6 * h.abs().max(), "{}", got.lt);

@@ -104,6 +104,8 @@ pub fn unexplained(d: &Diagnosis) -> Option<Unexplained> {
         .cloned()
         .collect();
     let validation_error = named.validation_error;
+    // A NaN gain explains nothing: hence the negated comparison.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let unexplained_runs = validation_error > EXPLAINED_ERROR && !(d.gain >= EXPLAINING_GAIN);
     if unexplained_runs {
         misses.extend(named.validation_misses.iter().cloned());

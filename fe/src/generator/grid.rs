@@ -261,7 +261,7 @@ fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> Vec<Node> {
     let sec = [area, 2.0 * i_mm4, i_mm4, i_mm4];
     let mut tops = vec![];
     for i in (1..g.nx).filter(|i| g.y_line(*i) == Member::Main) {
-        for j in (1..g.ny).filter(|j| (j + g.rod_every - g.phase) % g.rod_every == 0) {
+        for j in (1..g.ny).filter(|j| (j + g.rod_every - g.phase).is_multiple_of(g.rod_every)) {
             let id = g.id(i, j);
             let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, length_mm];
             tops.push(Node { id: 200000 + id, xyz_mm });

@@ -1,5 +1,5 @@
 //! Levenberg–Marquardt on the linear stage's −log L = Σ_c n_c/2 · log SSR_c
-//! + the frequencies' −log L, over the unit cube: forward-difference
+//! plus the frequencies' −log L, over the unit cube: forward-difference
 //! Jacobians of every channel's residual and of the whitened frequency
 //! residuals (one linear evaluation per dimension, all on the threads at
 //! once), the Gauss–Newton system Σ_c n_c/SSR_c · J_cᵀJ_c + J_mᵀJ_m, steps
