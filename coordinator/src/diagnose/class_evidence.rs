@@ -53,11 +53,12 @@
 
 use super::calibrate::{evaluate_points, Calibration};
 use super::executor::{ExecutorError, FeExecutor};
+use super::fit::Evaluation;
 use crate::bundle::Bundle;
 use nalgebra::{DMatrix, DVector};
 use stats::calibration::UniformBox;
 use stats::evidence::{
-    check_indices, correct_evidence, CorrectedEvidence, SmcOptions, TemperedSmc,
+    check_indices, correct_evidence, CorrectedEvidence, SmcOptions, SmcRun, TemperedSmc,
 };
 use stats::gp::{fit, Gp, GpError, GpSettings, InputScaling, MeanKind};
 
@@ -165,6 +166,8 @@ pub struct EvidenceRound {
     pub emulated: (f64, f64),
     /// SMC stages (temperatures) the run took.
     pub smc_stages: usize,
+    /// FE runs of its checks.
+    pub fe_points: usize,
     /// The evidence corrected by this round's FE checks (None: every
     /// check failed to simulate).
     pub corrected: Option<CorrectedEvidence>,
@@ -244,50 +247,27 @@ pub fn class_evidence(
     policy: &EvidencePolicy,
 ) -> Result<ClassEvidence, ClassEvidenceError> {
     policy.check()?;
-    let ev = cal.evaluation(bundle, runs);
     let start = Laplace::of(cal, n_eff)?;
-    let mut laplace = Laplace { mode: start.mode.clone(), lt: start.lt.clone() };
-    let d = cal.priors.len();
-    let cube = UniformBox {
-        names: cal.priors.iter().map(|p| p.name.to_string()).collect(),
-        lower: vec![0.0; d],
-        upper: vec![1.0; d],
+    let mut driver = Rounds {
+        ev: cal.evaluation(bundle, runs),
+        n_eff,
+        policy,
+        laplace: start.clone(),
+        ledger: cal.points.iter().map(|p| (p.u.clone(), -p.neg_log_lik(n_eff), false)).collect(),
     };
-    let mut ledger: Vec<Entry> =
-        cal.points.iter().map(|p| (p.u.clone(), -p.neg_log_lik(n_eff), false)).collect();
     let (mut rounds, mut fe_points) = (Vec::new(), 0);
     let mut last: Option<(CorrectedEvidence, Vec<Vec<f64>>)> = None;
     let mut converged = false;
     for round in 0..policy.rounds {
-        if let Some(refit) = laplace.refit(&ledger, policy.floor(d)) {
-            laplace = refit;
-        }
-        let em = Emulator::fit(&laplace, &ledger, policy.floor(d));
-        let seed = policy.smc.seed.wrapping_add(round as u64);
-        let smc = TemperedSmc::new(SmcOptions { seed, ..policy.smc.clone() });
-        let run = smc
-            .run(&cube, &mut |xs: &[Vec<f64>]| em.ln_l(xs))
-            .map_err(|e| ClassEvidenceError::Smc { round: round + 1, message: e.to_string() })?;
-        let idx = check_indices(&run, policy.checks);
-        let checks: Vec<Vec<f64>> = idx.iter().map(|&i| run.particles[i].clone()).collect();
-        let exact: Vec<f64> =
-            evaluate_points(&ev, &checks, exec)?.iter().map(|p| -p.neg_log_lik(n_eff)).collect();
-        fe_points += checks.len();
-        let corrected = correct_evidence(&run, &idx, &exact);
-        rounds.push(EvidenceRound {
-            emulator_points: em.points(),
-            emulated: (run.ln_evidence, run.ln_evidence_sd),
-            smc_stages: run.stages.len(),
-            corrected: corrected.clone(),
-        });
-        let spread = spread(idx.iter().zip(&exact).map(|(&i, l)| l - run.ln_likelihood[i]));
-        ledger.extend(checks.into_iter().zip(exact).map(|(u, l)| (u, l, true)));
-        if let Some(c) = corrected {
+        let (record, run, spread) = driver.round(round, exec)?;
+        fe_points += record.fe_points;
+        if let Some(c) = record.corrected.clone() {
             converged = policy.settled(&c, spread, last.as_ref().map(|l| &l.0));
             last = Some((c, run.particles));
-            if converged {
-                break;
-            }
+        }
+        rounds.push(record);
+        if converged {
+            break;
         }
     }
     let Some((c, posterior)) = last else {
@@ -305,6 +285,54 @@ pub fn class_evidence(
     })
 }
 
+/// The state the rounds share: the quadratic and the ledger.
+struct Rounds<'a> {
+    ev: Evaluation<'a>,
+    n_eff: &'a [f64],
+    policy: &'a EvidencePolicy,
+    laplace: Laplace,
+    ledger: Vec<Entry>,
+}
+
+impl Rounds<'_> {
+    /// One round (from 0): refit, emulate, SMC, check; its record, the SMC
+    /// run and the spread of the checks' log-ratios. The checks join the
+    /// ledger.
+    fn round(
+        &mut self,
+        round: usize,
+        exec: &mut dyn FeExecutor,
+    ) -> Result<(EvidenceRound, SmcRun, f64), ClassEvidenceError> {
+        let d = self.laplace.mode.0.len();
+        let floor = self.policy.floor(d);
+        if let Some(refit) = self.laplace.refit(&self.ledger, floor) {
+            self.laplace = refit;
+        }
+        let em = Emulator::fit(&self.laplace, &self.ledger, floor);
+        let seed = self.policy.smc.seed.wrapping_add(round as u64);
+        let smc = TemperedSmc::new(SmcOptions { seed, ..self.policy.smc.clone() });
+        let cube =
+            UniformBox { names: vec![String::new(); d], lower: vec![0.0; d], upper: vec![1.0; d] };
+        let run = smc
+            .run(&cube, &mut |xs: &[Vec<f64>]| em.ln_l(xs))
+            .map_err(|e| ClassEvidenceError::Smc { round: round + 1, message: e.to_string() })?;
+        let idx = check_indices(&run, self.policy.checks);
+        let checks: Vec<Vec<f64>> = idx.iter().map(|&i| run.particles[i].clone()).collect();
+        let points = evaluate_points(&self.ev, &checks, exec)?;
+        let exact: Vec<f64> = points.iter().map(|p| -p.neg_log_lik(self.n_eff)).collect();
+        let record = EvidenceRound {
+            emulator_points: em.points(),
+            emulated: (run.ln_evidence, run.ln_evidence_sd),
+            smc_stages: run.stages.len(),
+            fe_points: checks.len(),
+            corrected: correct_evidence(&run, &idx, &exact),
+        };
+        let spread = spread(idx.iter().zip(&exact).map(|(&i, l)| l - run.ln_likelihood[i]));
+        self.ledger.extend(checks.into_iter().zip(exact).map(|(u, l)| (u, l, true)));
+        Ok((record, run, spread))
+    }
+}
+
 /// max − min of log-ratios (+∞ when one is not finite).
 fn spread(log_r: impl Iterator<Item = f64>) -> f64 {
     let (lo, hi) = log_r.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
@@ -318,6 +346,7 @@ fn spread(log_r: impl Iterator<Item = f64>) -> f64 {
 }
 
 /// The Laplace approximation at the calibration's best point.
+#[derive(Debug, Clone)]
 struct Laplace {
     /// The best point (unit cube) and its ln L.
     mode: (Vec<f64>, f64),
