@@ -4,6 +4,7 @@
 //! Every kernel here works on plain sample slices (SI units, uniform step
 //! `dt_s`) so that measured and simulated runs are judged by the same code.
 
+pub mod band_likelihood;
 pub mod calibrate;
 pub mod campaign;
 pub mod campaign_size;
