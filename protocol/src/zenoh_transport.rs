@@ -433,3 +433,7 @@ impl WorkerLink for ZenohWorker {
         self.joined = None;
     }
 }
+
+#[cfg(test)]
+#[path = "zenoh_trust_tests.rs"]
+mod trust_tests;
