@@ -100,3 +100,37 @@ fn an_error_reply_fails_the_attempt_and_the_worker_stays() {
     expect(&mut c, |ev| matches!(ev, TransportEvent::Result { worker: by, .. } if *by == worker));
     c.shutdown();
 }
+
+#[test]
+fn one_reply_per_task_query_counts_and_a_hand_back_is_reported() {
+    let ep = endpoint(3);
+    let mut c = ZenohCoordinator::new(&ep);
+    c.start(HASH, &model()).unwrap();
+    let mut w = joined_worker(&ep, "w");
+    let TransportEvent::Joined { worker, .. } =
+        expect(&mut c, |ev| matches!(ev, TransportEvent::Joined { .. }))
+    else {
+        unreachable!()
+    };
+    c.send(worker, Task { id: TaskId(3), params: vec![3.0] }).unwrap();
+    let query = next_ticket(&mut w).route.downcast::<Query>().unwrap();
+    for wall_s in [1.0, 12345.0] {
+        let outcome = Outcome::Ok(Outputs::default());
+        let result = TaskResult { id: TaskId(3), outcome, wall_s, host: "h".into() };
+        let bytes = codec::encode(&FromWorker::Result(result)).unwrap();
+        query.reply(query.key_expr().clone(), bytes).wait().unwrap();
+    }
+    drop(query);
+    let first = expect(&mut c, |ev| matches!(ev, TransportEvent::Result { .. }));
+    assert!(matches!(first, TransportEvent::Result { result, .. } if result.wall_s == 1.0));
+    expect(
+        &mut c,
+        |ev| matches!(ev, TransportEvent::Rejected { reason } if reason.contains("another reply")),
+    );
+    c.send(worker, Task { id: TaskId(4), params: vec![4.0] }).unwrap();
+    let route = next_ticket(&mut w).route;
+    w.hand_back(route, "worker stopping");
+    let back = expect(&mut c, |ev| matches!(ev, TransportEvent::HandedBack { .. }));
+    assert_eq!(back, TransportEvent::HandedBack { worker, task: TaskId(4) });
+    c.shutdown();
+}
