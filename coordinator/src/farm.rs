@@ -107,7 +107,11 @@ struct Farm<'a> {
     hand_backs: HandBacks,
     summary: FarmSummary,
     remaining: usize,
+    last_starved_warning: Option<Instant>,
 }
+
+/// How often the farm says that tasks wait with no worker connected.
+const STARVED_WARNING_EVERY: Duration = Duration::from_secs(30);
 
 /// Runs `tasks` to completion on the transport, feeding final results to `sink`.
 pub fn run_farm(
@@ -189,6 +193,7 @@ fn run_batch(
         losses: HashMap::new(),
         hand_backs: HandBacks::default(),
         summary: FarmSummary::default(),
+        last_starved_warning: None,
     };
     let result = if farm.remaining == 0 { Ok(()) } else { farm.drive(transport, sink, observer) };
     // Tasks still held (a failed batch) are forgotten with the batch.
@@ -209,6 +214,7 @@ impl Farm<'_> {
         let mut done = Vec::new();
         while self.remaining > 0 {
             self.dispatch(t)?;
+            self.warn_if_starved();
             let wait = self.next_deadline().map(|d| d.saturating_duration_since(Instant::now()));
             let wait = wait.unwrap_or(Duration::from_millis(200)).min(Duration::from_millis(200));
             if let Some(ev) = t.next_event(wait)? {
@@ -228,6 +234,20 @@ impl Farm<'_> {
             }
         }
         Ok(())
+    }
+
+    /// Says so (every [`STARVED_WARNING_EVERY`]) while tasks wait and no worker is connected.
+    fn warn_if_starved(&mut self) {
+        if !self.workers.is_empty() {
+            self.last_starved_warning = None;
+            return;
+        }
+        let now = Instant::now();
+        let first = *self.last_starved_warning.get_or_insert(now);
+        if now.duration_since(first) >= STARVED_WARNING_EVERY {
+            tracing::warn!(waiting = self.remaining, "no worker connected: tasks wait");
+            self.last_starved_warning = Some(now);
+        }
     }
 
     fn next_deadline(&self) -> Option<Instant> {
@@ -307,7 +327,8 @@ impl Farm<'_> {
 
     fn on_left(&mut self, worker: WorkerId, reason: &str, obs: &mut dyn FarmObserver) {
         if !self.workers.contains_key(&worker) {
-            tracing::warn!(%worker, reason, "leave of a worker the farm does not know: ignored");
+            // Its other task queries closing, or a stranger's token: nothing to re-queue.
+            tracing::debug!(%worker, reason, "leave of a worker the farm does not know: ignored");
             return;
         }
         obs.membership(false, worker, reason);

@@ -215,6 +215,7 @@ fn farm(settings: &FarmSettings, n: u64, queued: bool) -> Farm<'_> {
         losses: HashMap::new(),
         hand_backs: HandBacks::default(),
         summary: FarmSummary::default(),
+        last_starved_warning: None,
     }
 }
 
