@@ -80,7 +80,7 @@ pub struct FarmSummary {
     pub failed: usize,
     /// Tries beyond the first (failures, timeouts, lost workers).
     pub reissued: usize,
-    /// Late or duplicate results dropped.
+    /// Late, duplicate or foreign replies dropped (results, error replies, hand-backs).
     pub duplicates: usize,
 }
 
