@@ -1,7 +1,15 @@
 //! The farm: hands tasks to workers through any [`Transport`], keeps a lease
 //! on each task, retries failures, re-issues the tasks of workers that leave,
 //! drops late duplicates, and passes each result exactly once to a sink.
+//!
+//! A worker's word counts for its own tasks only: a result, error reply or
+//! hand-back is taken only from the worker that holds the task's lease, once
+//! (late, duplicate, foreign and malformed replies are logged and dropped);
+//! an error reply fails that attempt, never the worker; hand-backs are
+//! bounded ([`crate::farm_hand_backs`]); and a worker's loss re-queues only
+//! the leases it held, so a worker never leased a task cannot lose one.
 
+use crate::farm_hand_backs::{HandBackVerdict, HandBacks};
 use protocol::{ModelSpec, Outcome, Task, TaskId, TaskResult, Transport, TransportEvent, WorkerId};
 use std::collections::{BTreeMap, HashMap, VecDeque};
 use std::time::{Duration, Instant};
@@ -72,7 +80,7 @@ pub struct FarmSummary {
     pub failed: usize,
     /// Tries beyond the first (failures, timeouts, lost workers).
     pub reissued: usize,
-    /// Late or duplicate results dropped.
+    /// Late, duplicate or foreign replies dropped (results, error replies, hand-backs).
     pub duplicates: usize,
 }
 
@@ -96,9 +104,14 @@ struct Farm<'a> {
     workers: BTreeMap<WorkerId, WorkerState>,
     tries: HashMap<TaskId, u32>,
     losses: HashMap<TaskId, u32>,
+    hand_backs: HandBacks,
     summary: FarmSummary,
     remaining: usize,
+    last_starved_warning: Option<Instant>,
 }
+
+/// How often the farm says that tasks wait with no worker connected.
+const STARVED_WARNING_EVERY: Duration = Duration::from_secs(30);
 
 /// Runs `tasks` to completion on the transport, feeding final results to `sink`.
 pub fn run_farm(
@@ -178,7 +191,9 @@ fn run_batch(
         workers: std::mem::take(workers),
         tries: HashMap::new(),
         losses: HashMap::new(),
+        hand_backs: HandBacks::default(),
         summary: FarmSummary::default(),
+        last_starved_warning: None,
     };
     let result = if farm.remaining == 0 { Ok(()) } else { farm.drive(transport, sink, observer) };
     // Tasks still held (a failed batch) are forgotten with the batch.
@@ -199,13 +214,14 @@ impl Farm<'_> {
         let mut done = Vec::new();
         while self.remaining > 0 {
             self.dispatch(t)?;
+            self.warn_if_starved();
             let wait = self.next_deadline().map(|d| d.saturating_duration_since(Instant::now()));
             let wait = wait.unwrap_or(Duration::from_millis(200)).min(Duration::from_millis(200));
             if let Some(ev) = t.next_event(wait)? {
-                self.handle(ev, t, obs, &mut done);
+                self.handle(ev, obs, &mut done);
                 // Drain whatever else is already there, then record in one transaction.
                 while let Some(ev) = t.next_event(Duration::ZERO)? {
-                    self.handle(ev, t, obs, &mut done);
+                    self.handle(ev, obs, &mut done);
                     if done.len() >= 256 {
                         break;
                     }
@@ -218,6 +234,20 @@ impl Farm<'_> {
             }
         }
         Ok(())
+    }
+
+    /// Says so (every [`STARVED_WARNING_EVERY`]) while tasks wait and no worker is connected.
+    fn warn_if_starved(&mut self) {
+        if !self.workers.is_empty() {
+            self.last_starved_warning = None;
+            return;
+        }
+        let now = Instant::now();
+        let first = *self.last_starved_warning.get_or_insert(now);
+        if now.duration_since(first) >= STARVED_WARNING_EVERY {
+            tracing::warn!(waiting = self.remaining, "no worker connected: tasks wait");
+            self.last_starved_warning = Some(now);
+        }
     }
 
     fn next_deadline(&self) -> Option<Instant> {
@@ -256,52 +286,87 @@ impl Farm<'_> {
     fn handle(
         &mut self,
         ev: TransportEvent,
-        t: &mut dyn Transport,
         obs: &mut dyn FarmObserver,
         done: &mut Vec<TaskResult>,
     ) {
         match ev {
             TransportEvent::Joined { worker, name, slots } => {
-                let capacity = slots.max(1) * self.settings.window_per_slot.max(1);
-                self.workers.insert(
-                    worker,
-                    WorkerState { capacity, held: Vec::new(), last_deadline: Instant::now() },
-                );
-                obs.membership(true, worker, &name);
+                self.on_joined(worker, &name, slots, obs)
             }
-            TransportEvent::Left { worker, reason } => {
-                obs.membership(false, worker, &reason);
-                self.drop_worker(worker);
+            TransportEvent::Left { worker, reason } => self.on_left(worker, &reason, obs),
+            TransportEvent::Rejected { reason } => {
+                tracing::warn!(%reason, "message rejected");
+                obs.rejected(&reason)
             }
-            TransportEvent::Rejected { reason } => obs.rejected(&reason),
             TransportEvent::HandedBack { worker, task } => {
-                if self.leases.get(&task).is_some_and(|l| l.worker == worker) {
-                    self.release(task);
-                    self.requeue(task);
-                }
+                self.on_hand_back(worker, task, obs, done)
             }
-            TransportEvent::Result { worker, result } => {
-                self.on_result(worker, result, t, obs, done)
+            TransportEvent::Failed { worker, task, reason } => {
+                self.on_failed(worker, task, reason, obs, done)
             }
+            TransportEvent::Result { worker, result } => self.on_result(worker, result, obs, done),
         }
+    }
+
+    fn on_joined(
+        &mut self,
+        worker: WorkerId,
+        name: &str,
+        slots: usize,
+        obs: &mut dyn FarmObserver,
+    ) {
+        if self.workers.contains_key(&worker) {
+            tracing::warn!(%worker, name, "joined twice: ignored");
+            return;
+        }
+        let capacity = slots.max(1) * self.settings.window_per_slot.max(1);
+        let state = WorkerState { capacity, held: Vec::new(), last_deadline: Instant::now() };
+        self.workers.insert(worker, state);
+        obs.membership(true, worker, name);
+    }
+
+    fn on_left(&mut self, worker: WorkerId, reason: &str, obs: &mut dyn FarmObserver) {
+        if !self.workers.contains_key(&worker) {
+            // Its other task queries closing, or a stranger's token: nothing to re-queue.
+            tracing::debug!(%worker, reason, "leave of a worker the farm does not know: ignored");
+            return;
+        }
+        obs.membership(false, worker, reason);
+        self.drop_worker(worker);
+    }
+
+    /// Whether `worker` holds the lease of `task` now.
+    fn holds(&self, worker: WorkerId, task: TaskId) -> bool {
+        self.leases.get(&task).is_some_and(|l| l.worker == worker)
+    }
+
+    /// Logs and drops a reply from a worker that does not hold the task's lease.
+    fn drop_reply(&mut self, worker: WorkerId, task: TaskId, what: &str) {
+        self.summary.duplicates += 1;
+        let why = match self.leases.get(&task) {
+            _ if !self.tasks.contains_key(&task) => "late: the task is done or not in this batch",
+            Some(_) => "foreign: the task is leased to another worker",
+            None => "late: the task was given up and re-queued",
+        };
+        tracing::warn!(%worker, %task, why, "{what} dropped");
     }
 
     fn on_result(
         &mut self,
         worker: WorkerId,
         result: TaskResult,
-        _t: &mut dyn Transport,
         obs: &mut dyn FarmObserver,
         done: &mut Vec<TaskResult>,
     ) {
-        let leased_here = self.leases.get(&result.id).is_some_and(|l| l.worker == worker);
-        if !leased_here {
-            // Late (lease expired, re-issued elsewhere) or duplicate: the task's
-            // fate is decided by whoever holds the lease now.
-            self.summary.duplicates += 1;
-            return;
+        if !self.holds(worker, result.id) {
+            return self.drop_reply(worker, result.id, "result");
         }
         self.release(result.id);
+        if let Some(why) = malformed(&result) {
+            tracing::warn!(%worker, task = %result.id, why, "malformed result dropped");
+            let reason = format!("malformed result from {worker}: {why}");
+            return self.fail_attempt(result.id, reason, 0.0, obs, done);
+        }
         // A NaN from any worker is that run's failure, never a number to keep.
         let result = TaskResult { outcome: result.outcome.finite_or_failed(), ..result };
         match &result.outcome {
@@ -310,6 +375,62 @@ impl Farm<'_> {
                 self.requeue(result.id);
             }
             _ => self.finish(result, obs, done),
+        }
+    }
+
+    /// An error reply: that attempt failed; the worker keeps its other tasks.
+    fn on_failed(
+        &mut self,
+        worker: WorkerId,
+        task: TaskId,
+        reason: String,
+        obs: &mut dyn FarmObserver,
+        done: &mut Vec<TaskResult>,
+    ) {
+        if !self.holds(worker, task) {
+            return self.drop_reply(worker, task, "error reply");
+        }
+        tracing::warn!(%worker, %task, %reason, "attempt failed");
+        self.release(task);
+        self.fail_attempt(task, reason, 0.0, obs, done);
+    }
+
+    /// A task given back unrun: re-queued free within the bound, else a failed attempt.
+    fn on_hand_back(
+        &mut self,
+        worker: WorkerId,
+        task: TaskId,
+        obs: &mut dyn FarmObserver,
+        done: &mut Vec<TaskResult>,
+    ) {
+        if !self.holds(worker, task) {
+            return self.drop_reply(worker, task, "hand-back");
+        }
+        self.release(task);
+        match self.hand_backs.record(task, worker) {
+            HandBackVerdict::Free => self.requeue(task),
+            HandBackVerdict::FailedAttempt(reason) => {
+                tracing::warn!(%worker, %task, %reason, "hand-back counted as a failed attempt");
+                self.fail_attempt(task, reason, 0.0, obs, done)
+            }
+        }
+    }
+
+    /// One attempt of a task ended without a result: try again or record the failure.
+    fn fail_attempt(
+        &mut self,
+        id: TaskId,
+        reason: String,
+        wall_s: f64,
+        obs: &mut dyn FarmObserver,
+        done: &mut Vec<TaskResult>,
+    ) {
+        if self.retry_allowed(id) {
+            obs.retrying(id, &reason);
+            self.requeue(id);
+        } else {
+            let outcome = Outcome::Failed { reason };
+            self.finish(TaskResult { id, outcome, wall_s, host: String::new() }, obs, done);
         }
     }
 
@@ -353,10 +474,13 @@ impl Farm<'_> {
         }
     }
 
-    /// Forgets a worker and re-issues what it held.
+    /// Forgets a worker and re-issues the leases it held (and only those).
     fn drop_worker(&mut self, id: WorkerId) {
         let Some(w) = self.workers.remove(&id) else { return };
         for task in w.held.into_iter().rev() {
+            if !self.holds(id, task) {
+                continue;
+            }
             self.leases.remove(&task);
             *self.losses.entry(task).or_insert(0) += 1;
             self.requeue(task);
@@ -388,18 +512,7 @@ impl Farm<'_> {
             t.abandon(worker, &reason);
             obs.membership(false, worker, &reason);
             self.drop_worker(worker);
-            if self.retry_allowed(id) {
-                obs.retrying(id, &reason);
-                self.requeue(id);
-            } else {
-                let failed = TaskResult {
-                    id,
-                    outcome: Outcome::Failed { reason },
-                    wall_s: secs,
-                    host: String::new(),
-                };
-                self.finish(failed, obs, done);
-            }
+            self.fail_attempt(id, reason, secs, obs, done);
         }
         self.fail_lost_tasks(obs, done);
     }
@@ -430,6 +543,13 @@ impl Farm<'_> {
     }
 }
 
+/// Why a result cannot be kept as it came (its wall time is not a
+/// non-negative finite number of seconds), or `None` when it can.
+fn malformed(r: &TaskResult) -> Option<String> {
+    let ok = r.wall_s.is_finite() && r.wall_s >= 0.0;
+    (!ok).then(|| format!("wall time {} s", r.wall_s))
+}
+
 /// Whether a result is a failure the farm recorded itself (a timeout, a
 /// task lost with too many workers: these carry no host) rather than the
 /// model's own verdict; such a failure says nothing about the parameters
@@ -437,6 +557,10 @@ impl Farm<'_> {
 pub fn farm_failure(r: &TaskResult) -> bool {
     matches!(r.outcome, Outcome::Failed { .. }) && r.host.is_empty()
 }
+
+#[cfg(test)]
+#[path = "farm_tests.rs"]
+mod farm_tests;
 
 #[cfg(test)]
 mod farm_failure_tests {

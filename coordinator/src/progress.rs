@@ -51,7 +51,5 @@ impl FarmObserver for SweepProgress {
             tracing::info!(worker = worker.0, %detail, "worker left");
         }
     }
-    fn rejected(&mut self, reason: &str) {
-        tracing::warn!(%reason, "message rejected");
-    }
+    // Rejected messages: the farm logs them itself (tracing warn).
 }

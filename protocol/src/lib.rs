@@ -20,8 +20,10 @@ pub mod codec;
 pub mod iceoryx2_transport;
 pub mod in_process;
 pub mod link;
+pub mod membership;
 pub mod messages;
 pub mod raw_f64;
+pub mod task_reply;
 pub mod transport;
 #[cfg(feature = "zenoh")]
 pub mod zenoh_transport;

@@ -44,7 +44,18 @@ pub enum TransportEvent {
         /// The answer.
         result: TaskResult,
     },
-    /// A worker gave a task back unrun; it goes to another worker, no try counted.
+    /// A worker could not run a task (an error reply): that attempt failed,
+    /// the worker stays.
+    Failed {
+        /// Who answered.
+        worker: WorkerId,
+        /// The task whose attempt failed.
+        task: crate::TaskId,
+        /// Why.
+        reason: String,
+    },
+    /// A worker gave a task back unrun; it goes to another worker, no try
+    /// counted (within the farm's bound on hand-backs).
     HandedBack {
         /// Who gave it back.
         worker: WorkerId,

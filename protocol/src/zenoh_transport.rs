@@ -8,27 +8,29 @@
 //! declared after the queryable); joining is a `get` on
 //! `ceilfarm/*/welcome` carrying the worker's Hello, which the coordinator
 //! answers with the model or refuses with a reason (another protocol
-//! version). Keys carry the study hash, so two sweeps on one network never
+//! version). A liveliness token counts only for a name that said Hello
+//! first ([`crate::membership`]), and only the first valid reply to a task
+//! query counts ([`crate::task_reply`]): an error reply fails that attempt,
+//! never the worker. Keys carry the study hash, so two sweeps on one network never
 //! mix. Multicast scouting is off: workers connect to the coordinator's
 //! endpoint.
 
 use crate::codec;
 use crate::link::{study_refusal, JoinRequest, Joined, LinkEvent, Ticket, WorkerLink};
+pub use crate::membership::safe_name;
+use crate::membership::Members;
+use crate::task_reply::{Reply, ReplyGate, HAND_BACK};
 use crate::transport::{recv_event, Transport, TransportError, TransportEvent, WorkerId};
 use crate::{FromWorker, ModelSpec, Task, TaskResult, ToWorker, PROTOCOL_VERSION};
-use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 use zenoh::handlers::{CallbackDrop, FifoChannelHandler};
 use zenoh::liveliness::LivelinessToken;
 use zenoh::query::{ConsolidationMode, Query, QueryTarget, Queryable};
 use zenoh::sample::SampleKind;
 use zenoh::{Session, Wait};
-
-/// Prefix of a reply error that gives a task back unrun.
-const HAND_BACK: &str = "hand-back: ";
 
 /// Longest a single query may stay open (the farm's lease governs sooner).
 const QUERY_TIMEOUT: Duration = Duration::from_secs(30 * 24 * 3600);
@@ -42,13 +44,9 @@ pub fn sweep_prefix(study_hash: &str) -> String {
     format!("ceilfarm/{}", &study_hash[..study_hash.len().min(16)])
 }
 
-/// A key-expression-safe worker name.
-pub fn safe_name(name: &str) -> String {
-    name.chars()
-        .map(
-            |c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' { c } else { '_' },
-        )
-        .collect()
+/// The lock's data even if a callback panicked while holding it.
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
 /// Opens a zenoh session: the coordinator listens (peer), workers connect
@@ -84,19 +82,12 @@ fn serde_json_string(s: &str) -> String {
     format!("\"{escaped}\"")
 }
 
-#[derive(Default)]
-struct Members {
-    by_name: HashMap<String, WorkerId>,
-    names: HashMap<WorkerId, String>,
-}
-
 /// The coordinator's end: implements [`Transport`].
 pub struct ZenohCoordinator {
     endpoint: String,
     session: Option<Session>,
     prefix: String,
     members: Arc<Mutex<Members>>,
-    next_id: Arc<AtomicU64>,
     events_tx: Sender<TransportEvent>,
     events_rx: Receiver<TransportEvent>,
     keep: Vec<Box<dyn std::any::Any + Send>>,
@@ -111,7 +102,6 @@ impl ZenohCoordinator {
             session: None,
             prefix: String::new(),
             members: Arc::default(),
-            next_id: Arc::new(AtomicU64::new(0)),
             events_tx,
             events_rx,
             keep: Vec::new(),
@@ -129,7 +119,7 @@ impl ZenohCoordinator {
             model: model.clone(),
         })
         .map_err(setup)?;
-        let events = self.events_tx.clone();
+        let (events, members) = (self.events_tx.clone(), self.members.clone());
         let hash = study_hash.to_string();
         let q = session
             .declare_queryable(format!("{}/welcome", self.prefix))
@@ -138,7 +128,9 @@ impl ZenohCoordinator {
                 let bytes = query.payload().map(|p| p.to_bytes().into_owned()).unwrap_or_default();
                 match codec::decode::<FromWorker>(&bytes) {
                     Ok(FromWorker::Hello { name, study, .. }) => {
-                        match study_refusal(study.as_deref(), &hash) {
+                        let refusal = study_refusal(study.as_deref(), &hash)
+                            .or_else(|| lock(&members).admit(&name).err().map(|e| e.to_string()));
+                        match refusal {
                             None => {
                                 let _ =
                                     query.reply(query.key_expr().clone(), welcome.clone()).wait();
@@ -167,8 +159,7 @@ impl ZenohCoordinator {
     }
 
     fn declare_membership(&mut self, session: &Session) -> Result<(), TransportError> {
-        let (events, members, next_id) =
-            (self.events_tx.clone(), self.members.clone(), self.next_id.clone());
+        let (events, members) = (self.events_tx.clone(), self.members.clone());
         let base = format!("{}/alive/", self.prefix);
         let sub = session
             .liveliness()
@@ -177,32 +168,12 @@ impl ZenohCoordinator {
             .callback(move |sample| {
                 let key = sample.key_expr().as_str().to_string();
                 let rest = key.strip_prefix(&base).unwrap_or("");
-                let Some((name, slots)) = rest.split_once('/') else { return };
-                let slots = slots.parse::<usize>().unwrap_or(1).clamp(1, 1024);
-                let mut m = members.lock().expect("members lock");
-                match sample.kind() {
-                    SampleKind::Put => {
-                        if m.by_name.contains_key(name) {
-                            return;
-                        }
-                        let id = WorkerId(next_id.fetch_add(1, Ordering::Relaxed));
-                        m.by_name.insert(name.to_string(), id);
-                        m.names.insert(id, name.to_string());
-                        let _ = events.send(TransportEvent::Joined {
-                            worker: id,
-                            name: name.to_string(),
-                            slots,
-                        });
-                    }
-                    SampleKind::Delete => {
-                        if let Some(id) = m.by_name.remove(name) {
-                            m.names.remove(&id);
-                            let _ = events.send(TransportEvent::Left {
-                                worker: id,
-                                reason: "liveliness lost".into(),
-                            });
-                        }
-                    }
+                let event = match sample.kind() {
+                    SampleKind::Put => lock(&members).appeared(rest),
+                    SampleKind::Delete => lock(&members).vanished(rest),
+                };
+                if let Some(event) = event {
+                    let _ = events.send(event);
                 }
             })
             .wait()
@@ -235,50 +206,22 @@ impl Transport for ZenohCoordinator {
     fn send(&mut self, worker: WorkerId, task: Task) -> Result<(), TransportError> {
         let session =
             self.session.as_ref().ok_or_else(|| TransportError::Closed("not started".into()))?;
-        let name = self.members.lock().expect("members lock").names.get(&worker).cloned();
+        let name = lock(&self.members).name(worker).map(str::to_string);
         let name = name.ok_or(TransportError::UnknownWorker(worker))?;
-        let task_id = task.id;
+        let gate = Arc::new(Mutex::new(ReplyGate::new(worker, task.id)));
         let payload = codec::encode(&ToWorker::Task(task)).map_err(setup)?;
-        let answered = Arc::new(AtomicBool::new(false));
-        let (ev1, ev2, got) = (self.events_tx.clone(), self.events_tx.clone(), answered.clone());
+        let (ev1, ev2, gate2) = (self.events_tx.clone(), self.events_tx.clone(), gate.clone());
         let handler = CallbackDrop {
             callback: move |reply: zenoh::query::Reply| {
-                got.store(true, Ordering::Relaxed);
                 let event = match reply.result() {
-                    Ok(sample) => match codec::decode::<FromWorker>(&sample.payload().to_bytes()) {
-                        Ok(FromWorker::Result(result)) => TransportEvent::Result { worker, result },
-                        Ok(_) => TransportEvent::Left {
-                            worker,
-                            reason: "answered a task with something else".into(),
-                        },
-                        Err(e) => {
-                            let _ = ev1.send(TransportEvent::Rejected {
-                                reason: format!("result from {worker}: {e}"),
-                            });
-                            TransportEvent::Left {
-                                worker,
-                                reason: format!("sent a malformed result: {e}"),
-                            }
-                        }
-                    },
-                    Err(err) => {
-                        let text = String::from_utf8_lossy(&err.payload().to_bytes()).into_owned();
-                        if text.starts_with(HAND_BACK) {
-                            TransportEvent::HandedBack { worker, task: task_id }
-                        } else {
-                            TransportEvent::Left {
-                                worker,
-                                reason: format!("refused the task: {text}"),
-                            }
-                        }
-                    }
+                    Ok(sample) => lock(&gate).on_reply(Reply::Answer(&sample.payload().to_bytes())),
+                    Err(err) => lock(&gate).on_reply(Reply::Error(&err.payload().to_bytes())),
                 };
                 let _ = ev1.send(event);
             },
             drop: move || {
-                if !answered.load(Ordering::Relaxed) {
-                    let reason = "task query closed without a reply (worker gone)".into();
-                    let _ = ev2.send(TransportEvent::Left { worker, reason });
+                if let Some(event) = lock(&gate2).on_close() {
+                    let _ = ev2.send(event);
                 }
             },
         };
@@ -300,10 +243,7 @@ impl Transport for ZenohCoordinator {
     fn abandon(&mut self, worker: WorkerId, _reason: &str) {
         // A remote worker cannot be stopped from here; forget it until it
         // announces itself again.
-        let mut m = self.members.lock().expect("members lock");
-        if let Some(name) = m.names.remove(&worker) {
-            m.by_name.remove(&name);
-        }
+        lock(&self.members).forget(worker);
     }
 
     fn shutdown(&mut self) {
@@ -493,3 +433,7 @@ impl WorkerLink for ZenohWorker {
         self.joined = None;
     }
 }
+
+#[cfg(test)]
+#[path = "zenoh_trust_tests.rs"]
+mod trust_tests;

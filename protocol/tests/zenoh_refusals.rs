@@ -1,6 +1,7 @@
 //! zenoh: a worker of another protocol version or pinned to another study is
 //! refused with a reason on both sides; garbage on the welcome and result
-//! paths is rejected and the coordinator keeps serving.
+//! paths is rejected and the coordinator keeps serving (garbage in answer
+//! to a task fails that attempt, never the worker).
 #![cfg(feature = "zenoh")]
 
 use protocol::codec;
@@ -53,9 +54,13 @@ fn rejected(ev: &TransportEvent) -> Option<&str> {
 }
 
 fn hello(study: Option<&str>) -> Vec<u8> {
+    hello_as("w", study)
+}
+
+fn hello_as(name: &str, study: Option<&str>) -> Vec<u8> {
     let msg = FromWorker::Hello {
         proto: protocol::PROTOCOL_VERSION,
-        name: "w".into(),
+        name: name.into(),
         threads: 1,
         study: study.map(Into::into),
     };
@@ -130,7 +135,10 @@ fn garbage_is_rejected_and_the_coordinator_keeps_serving() {
         assert_eq!(errors.len(), 1, "{errors:?}");
         wait_for(&mut c, |e| rejected(e).is_some());
     }
-    // A fake worker that answers its task with garbage is dropped, with a reason.
+    // A hand-made worker (Hello, queryable, token) that answers its task
+    // with garbage: the reply is rejected and that attempt fails; the
+    // worker is not dropped.
+    assert_eq!(raw_hello(&ep, hello_as("fake", None)), Vec::<String>::new());
     let s = open_session(&ep, false).unwrap();
     let q = s.declare_queryable("ceilfarm/0123456789abcdef/task/fake").wait().unwrap();
     let _tok = s.liveliness().declare_token("ceilfarm/0123456789abcdef/alive/fake/1").wait();
@@ -140,8 +148,13 @@ fn garbage_is_rejected_and_the_coordinator_keeps_serving() {
     let query = q.recv_timeout(Duration::from_secs(10)).unwrap().expect("task query");
     query.reply(query.key_expr().clone(), vec![1u8, 0, 42, 42]).wait().unwrap();
     drop(query);
-    let ev = wait_for(&mut c, |e| matches!(e, TransportEvent::Left { .. }));
-    assert!(format!("{ev:?}").contains("malformed result"), "{ev:?}");
+    let ev = wait_for(&mut c, |e| rejected(e).is_some_and(|r| r.contains("malformed reply")));
+    assert!(format!("{ev:?}").contains("task 7"), "{ev:?}");
+    let ev = wait_for(&mut c, |e| {
+        assert!(!matches!(e, TransportEvent::Left { .. }), "worker dropped: {e:?}");
+        matches!(e, TransportEvent::Failed { .. })
+    });
+    assert!(matches!(ev, TransportEvent::Failed { worker: w, task: TaskId(7), .. } if w == worker));
     // A real worker still joins and serves.
     let mut w = ZenohWorker::connect(&ep).unwrap();
     let req = JoinRequest { name: "w2".into(), threads: 1, study: None };
