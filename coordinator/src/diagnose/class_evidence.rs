@@ -58,7 +58,7 @@ use crate::bundle::Bundle;
 use nalgebra::{DMatrix, DVector};
 use stats::calibration::UniformBox;
 use stats::evidence::{
-    check_indices, correct_evidence, CorrectedEvidence, SmcOptions, SmcRun, TemperedSmc,
+    check_indices, correct_evidence, CorrectedEvidence, SmcOptions, TemperedSmc,
 };
 use stats::gp::{fit, Gp, GpError, GpSettings, InputScaling, MeanKind};
 
@@ -111,26 +111,21 @@ impl EvidencePolicy {
         self.floor_nats.0 + self.floor_nats.1 * d as f64
     }
 
-    /// Whether round estimate `c` (its log-ratios ln L − ln L̃ spanning
-    /// `spread` nats) ends the rounds after `before` (the last corrected
-    /// one): the correction trusted, its error within bounds, and the two
-    /// agree within twice their errors combined. A correction is trusted
-    /// when k̂ ≤ [`max_k_hat`](Self::max_k_hat), or when its ratios span
-    /// at most [`target_sd_nats`](Self::target_sd_nats): then no tail
-    /// among them can move it by more than the error asked for, while k̂,
-    /// a tail-shape fit, reads rounding noise in ratios equal to 1e-5
-    /// (it gave 1.1 to 1.3 on the test campaign once the emulator was exact).
-    fn settled(
-        &self,
-        c: &CorrectedEvidence,
-        spread: f64,
-        before: Option<&CorrectedEvidence>,
-    ) -> bool {
+    /// Whether round estimate `c` ends the rounds after `before` (the last
+    /// corrected one): the correction trusted, its error within bounds, and
+    /// the two agree within twice their errors combined. A correction is
+    /// trusted when k̂ ≤ [`max_k_hat`](Self::max_k_hat), or when its
+    /// log-ratios span at most [`target_sd_nats`](Self::target_sd_nats):
+    /// then no tail among them can move it by more than the error asked
+    /// for, while k̂, a tail-shape fit, reads rounding noise in ratios equal
+    /// to 1e-5 (it gave 1.1 to 1.3 on the test campaign once the emulator
+    /// was exact).
+    fn settled(&self, c: &CorrectedEvidence, before: Option<&CorrectedEvidence>) -> bool {
         let agrees = before.is_some_and(|b| {
             let sd = (c.ln_evidence_sd.powi(2) + b.ln_evidence_sd.powi(2)).sqrt();
             (c.ln_evidence - b.ln_evidence).abs() <= 2.0 * sd
         });
-        let trusted = c.k_hat <= self.max_k_hat || spread <= self.target_sd_nats;
+        let trusted = c.k_hat <= self.max_k_hat || c.log_ratio_range <= self.target_sd_nats;
         trusted && c.ln_evidence_sd <= self.target_sd_nats && agrees
     }
 
@@ -174,7 +169,7 @@ pub struct EvidenceRound {
 }
 
 /// The evidence of one class, with its error and how it was reached.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ClassEvidence {
     /// ln p(data | class) (nat; the likelihood's dropped constants are the
     /// same for every class on the same data).
@@ -192,8 +187,6 @@ pub struct ClassEvidence {
     pub rounds: Vec<EvidenceRound>,
     /// FE evaluations this computation ran (the calibration's not counted).
     pub fe_points: usize,
-    /// The final SMC population: draws from the emulated posterior (unit cube).
-    pub posterior: Vec<Vec<f64>>,
 }
 
 /// Why a class's evidence could not be computed.
@@ -256,21 +249,21 @@ pub fn class_evidence(
         ledger: cal.points.iter().map(|p| (p.u.clone(), -p.neg_log_lik(n_eff), false)).collect(),
     };
     let (mut rounds, mut fe_points) = (Vec::new(), 0);
-    let mut last: Option<(CorrectedEvidence, Vec<Vec<f64>>)> = None;
+    let mut last: Option<CorrectedEvidence> = None;
     let mut converged = false;
     for round in 0..policy.rounds {
-        let (record, run, spread) = driver.round(round, exec)?;
+        let record = driver.round(round, exec)?;
         fe_points += record.fe_points;
         if let Some(c) = record.corrected.clone() {
-            converged = policy.settled(&c, spread, last.as_ref().map(|l| &l.0));
-            last = Some((c, run.particles));
+            converged = policy.settled(&c, last.as_ref());
+            last = Some(c);
         }
         rounds.push(record);
         if converged {
             break;
         }
     }
-    let Some((c, posterior)) = last else {
+    let Some(c) = last else {
         return Err(ClassEvidenceError::NoCheck { rounds: rounds.len() });
     };
     Ok(ClassEvidence {
@@ -281,7 +274,6 @@ pub fn class_evidence(
         laplace_ln_evidence: start.ln_evidence(),
         rounds,
         fe_points,
-        posterior,
     })
 }
 
@@ -295,14 +287,13 @@ struct Rounds<'a> {
 }
 
 impl Rounds<'_> {
-    /// One round (from 0): refit, emulate, SMC, check; its record, the SMC
-    /// run and the spread of the checks' log-ratios. The checks join the
-    /// ledger.
+    /// One round (from 0): refit, emulate, SMC, check; its record. The
+    /// checks join the ledger.
     fn round(
         &mut self,
         round: usize,
         exec: &mut dyn FeExecutor,
-    ) -> Result<(EvidenceRound, SmcRun, f64), ClassEvidenceError> {
+    ) -> Result<EvidenceRound, ClassEvidenceError> {
         let d = self.laplace.mode.0.len();
         let floor = self.policy.floor(d);
         if let Some(refit) = self.laplace.refit(&self.ledger, floor) {
@@ -327,22 +318,9 @@ impl Rounds<'_> {
             fe_points: checks.len(),
             corrected: correct_evidence(&run, &idx, &exact),
         };
-        let spread = spread(idx.iter().zip(&exact).map(|(&i, l)| l - run.ln_likelihood[i]));
         self.ledger.extend(checks.into_iter().zip(exact).map(|(u, l)| (u, l, true)));
-        Ok((record, run, spread))
+        Ok(record)
     }
-}
-
-/// max − min of log-ratios (+∞ when one is not finite).
-fn spread(log_r: impl Iterator<Item = f64>) -> f64 {
-    let (lo, hi) = log_r.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-        if v.is_finite() {
-            (lo.min(v), hi.max(v))
-        } else {
-            (f64::NEG_INFINITY, f64::INFINITY)
-        }
-    });
-    hi - lo
 }
 
 /// The Laplace approximation at the calibration's best point.

@@ -8,54 +8,18 @@
 //! evidence is measured on campaigns before it is asked to choose.
 
 use super::calibrate::Calibration;
-use super::class_evidence::{class_evidence, ClassEvidence, EvidencePolicy, EvidenceRound};
+use super::class_evidence::{class_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy};
 use super::executor::{ExecutorError, FeExecutor};
 use crate::bundle::Bundle;
 
-/// A class's evidence as the diagnosis keeps it.
+/// A class's evidence and its posterior probability.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ClassOdds {
-    /// ln p(data | class) (nat).
-    pub ln_evidence: f64,
-    /// Its standard error (nat).
-    pub ln_evidence_sd: f64,
-    /// Pareto k̂ of its last FE correction.
-    pub k_hat: f64,
-    /// Whether the rounds met their stop rule.
-    pub converged: bool,
-    /// The Laplace approximation of ln Z at the calibration's estimate (nat).
-    pub laplace_ln_evidence: f64,
-    /// FE parameter points the evidence ran.
-    pub fe_points: usize,
-    /// Each round's emulated ln Z, corrected ln Z (NaN: every check
-    /// failed), its standard error and Pareto k̂ (nat, nat, nat, -).
-    pub rounds: Vec<[f64; 4]>,
+    /// The evidence, its error and its rounds.
+    pub evidence: ClassEvidence,
     /// Posterior probability among the classes whose evidence was had
     /// (equal prior odds).
     pub probability: f64,
-}
-
-impl ClassOdds {
-    fn of(e: &ClassEvidence) -> Self {
-        ClassOdds {
-            ln_evidence: e.ln_evidence,
-            ln_evidence_sd: e.ln_evidence_sd,
-            k_hat: e.k_hat,
-            converged: e.converged,
-            laplace_ln_evidence: e.laplace_ln_evidence,
-            fe_points: e.fe_points,
-            rounds: e.rounds.iter().map(round_row).collect(),
-            probability: f64::NAN,
-        }
-    }
-}
-
-/// One round as [`ClassOdds::rounds`] keeps it.
-fn round_row(r: &EvidenceRound) -> [f64; 4] {
-    match &r.corrected {
-        Some(c) => [r.emulated.0, c.ln_evidence, c.ln_evidence_sd, c.k_hat],
-        None => [r.emulated.0, f64::NAN, f64::NAN, f64::NAN],
-    }
 }
 
 /// The evidence of each calibration in `cals` on `runs` of `bundle`
@@ -74,14 +38,14 @@ pub fn class_odds(
     for (k, cal) in cals.iter().enumerate() {
         progress(k, cals.len());
         out.push(match class_evidence(cal, (bundle, runs), n_eff, exec, policy) {
-            Ok(e) => Ok(ClassOdds::of(&e)),
-            Err(super::class_evidence::ClassEvidenceError::Executor(e)) => return Err(e),
+            Ok(evidence) => Ok(ClassOdds { evidence, probability: f64::NAN }),
+            Err(ClassEvidenceError::Executor(e)) => return Err(e),
             Err(e) => Err(e.to_string()),
         });
     }
     progress(cals.len(), cals.len());
     let ln_z: Vec<f64> =
-        out.iter().map(|o| o.as_ref().map_or(f64::NAN, |o| o.ln_evidence)).collect();
+        out.iter().map(|o| o.as_ref().map_or(f64::NAN, |o| o.evidence.ln_evidence)).collect();
     for (o, p) in out.iter_mut().zip(probabilities(&ln_z)) {
         if let Ok(o) = o {
             o.probability = p;

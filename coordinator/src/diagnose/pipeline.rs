@@ -319,7 +319,7 @@ pub fn diagnose_with(
         let mut report = |done, planned| progress(stage, done, planned);
         let odds = class_odds(&v.cals, (b, &cal_runs), &n_eff, exec, policy, &mut report)?;
         for (r, o) in results.iter_mut().zip(odds) {
-            r.fe_points += o.as_ref().map_or(0, |o| o.fe_points);
+            r.fe_points += o.as_ref().map_or(0, |o| o.evidence.fe_points);
             r.odds = Some(o);
         }
     }

@@ -16,13 +16,15 @@ pub fn evidence_section(d: &Diagnosis) -> Option<Section> {
         return None;
     }
     let best = (odds.iter().flatten().filter_map(|o| o.as_ref().ok()))
-        .map(|o| o.ln_evidence)
+        .map(|o| o.evidence.ln_evidence)
         .fold(f64::NEG_INFINITY, f64::max);
     let rows =
         d.candidates.iter().zip(&odds).map(|(c, o)| row(c.cause.as_str(), *o, best)).collect();
     let factors: Vec<f64> = odds
         .iter()
-        .map(|o| o.and_then(|o| o.as_ref().ok()).map_or(f64::NAN, |o| o.ln_evidence - best))
+        .map(|o| {
+            o.and_then(|o| o.as_ref().ok()).map_or(f64::NAN, |o| o.evidence.ln_evidence - best)
+        })
         .collect();
     let chart = bar_chart(&BarChart {
         title: "Evidence of each model class against the best".into(),
@@ -66,47 +68,46 @@ pub fn evidence_section(d: &Diagnosis) -> Option<Section> {
 
 /// One table row.
 fn row(cause: &str, o: Option<&Result<ClassOdds, String>>, best: f64) -> Vec<String> {
-    match o {
-        Some(Ok(o)) => vec![
-            cause.into(),
-            format!("{:.2}", o.ln_evidence - best),
-            format!("{:.2}", o.ln_evidence_sd),
-            format!("{:.3}", o.probability),
-            format!("{:.2}", o.k_hat),
-            if o.converged { "yes".into() } else { format!("no ({} rounds)", o.rounds.len()) },
-            format!("{:.2}", o.laplace_ln_evidence - best),
-            o.fe_points.to_string(),
-        ],
-        Some(Err(why)) => {
-            let mut r = vec![cause.to_string(), format!("not computable: {why}")];
-            r.extend(std::iter::repeat_n("–".to_string(), 6));
-            r
+    let why = match o {
+        Some(Ok(o)) => {
+            let e = &o.evidence;
+            let settled =
+                if e.converged { "yes".into() } else { format!("no ({} rounds)", e.rounds.len()) };
+            return vec![
+                cause.into(),
+                format!("{:.2}", e.ln_evidence - best),
+                format!("{:.2}", e.ln_evidence_sd),
+                format!("{:.3}", o.probability),
+                format!("{:.2}", e.k_hat),
+                settled,
+                format!("{:.2}", e.laplace_ln_evidence - best),
+                e.fe_points.to_string(),
+            ];
         }
-        None => {
-            let mut r = vec![cause.to_string(), "not computed".into()];
-            r.extend(std::iter::repeat_n("–".to_string(), 6));
-            r
-        }
-    }
+        Some(Err(why)) => format!("not computable: {why}"),
+        None => "not computed".into(),
+    };
+    [cause.to_string(), why].into_iter().chain(std::iter::repeat_n("–".to_string(), 6)).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::diagnose::cause::Cause;
+    use crate::diagnose::class_evidence::ClassEvidence;
     use crate::diagnose::pipeline::CandidateResult;
 
     fn odds(ln_z: f64, p: f64) -> ClassOdds {
-        ClassOdds {
+        let evidence = ClassEvidence {
             ln_evidence: ln_z,
             ln_evidence_sd: 0.1,
             k_hat: 0.3,
             converged: true,
             laplace_ln_evidence: ln_z - 0.2,
+            rounds: vec![],
             fe_points: 80,
-            rounds: vec![[ln_z, ln_z, 0.1, 0.3]; 2],
-            probability: p,
-        }
+        };
+        ClassOdds { evidence, probability: p }
     }
 
     #[test]

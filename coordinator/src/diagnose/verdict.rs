@@ -97,6 +97,13 @@ pub struct EvidenceJson {
     pub not_computable: Option<String>,
 }
 
+/// One round as written: emulated ln Z, then the corrected ln Z, its
+/// error and k̂ (null where every check failed).
+fn round_json(r: &super::class_evidence::EvidenceRound) -> [Option<f64>; 4] {
+    let c = r.corrected.as_ref();
+    [Some(r.emulated.0), c.map(|c| c.ln_evidence), c.map(|c| c.ln_evidence_sd), c.map(|c| c.k_hat)]
+}
+
 /// The method line of a class evidence.
 pub const EVIDENCE_METHOD: &str = "tempered SMC on an emulator of ln L (a quadratic, the \
     Laplace form at the estimate refitted to the FE runs, plus a GP of the residual), corrected by \
@@ -105,18 +112,21 @@ pub const EVIDENCE_METHOD: &str = "tempered SMC on an emulator of ln L (a quadra
 fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Option<EvidenceJson> {
     let method = EVIDENCE_METHOD.to_string();
     Some(match o.as_ref()? {
-        Ok(o) => EvidenceJson {
-            method,
-            ln_evidence: Some(o.ln_evidence),
-            ln_evidence_sd: Some(o.ln_evidence_sd),
-            probability: Some(o.probability),
-            k_hat: Some(o.k_hat),
-            converged: Some(o.converged),
-            laplace_ln_evidence: Some(o.laplace_ln_evidence),
-            fe_points: o.fe_points,
-            rounds: o.rounds.iter().map(|r| r.map(|v| v.is_finite().then_some(v))).collect(),
-            not_computable: None,
-        },
+        Ok(o) => {
+            let e = &o.evidence;
+            EvidenceJson {
+                method,
+                ln_evidence: Some(e.ln_evidence),
+                ln_evidence_sd: Some(e.ln_evidence_sd),
+                probability: Some(o.probability),
+                k_hat: Some(e.k_hat),
+                converged: Some(e.converged),
+                laplace_ln_evidence: Some(e.laplace_ln_evidence),
+                fe_points: e.fe_points,
+                rounds: e.rounds.iter().map(round_json).collect(),
+                not_computable: None,
+            }
+        }
         Err(why) => EvidenceJson {
             method,
             ln_evidence: None,

@@ -27,6 +27,9 @@ pub struct CorrectedEvidence {
     pub ess_fraction: f64,
     /// Exact evaluations used (M).
     pub checked: usize,
+    /// max − min of the log-ratios ln L − ln L̃ (nat; +∞ when an exact
+    /// likelihood is zero): no tail among them moves the correction by more.
+    pub log_ratio_range: f64,
 }
 
 /// Corrects `run` (made on an emulated log-likelihood) by the exact
@@ -62,6 +65,7 @@ pub fn correct_evidence(run: &SmcRun, idx: &[usize], exact: &[f64]) -> Option<Co
         k_hat: ps.k_hat,
         ess_fraction: ps.ess / m,
         checked: idx.len(),
+        log_ratio_range: top - log_r.iter().copied().fold(f64::INFINITY, f64::min),
     })
 }
 
