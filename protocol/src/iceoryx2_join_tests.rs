@@ -9,15 +9,6 @@ fn root(tag: &str) -> String {
     format!("cftest{}j{tag}", std::process::id())
 }
 
-fn model() -> ModelSpec {
-    ModelSpec {
-        kind: "noop".into(),
-        options_json: "{}".into(),
-        param_names: vec!["x".into()],
-        outputs: vec![],
-    }
-}
-
 fn request(name: &str) -> JoinRequest {
     JoinRequest { name: name.into(), threads: 1, study: None }
 }
@@ -54,7 +45,8 @@ fn a_welcome_of_a_coordinator_that_is_gone_is_not_joined() {
     let wf = channel(&n, &format!("{root}/welcome"), 1, 1, 1, true, MAX_WORKERS).unwrap();
     let welcome = publisher(&wf).unwrap();
     let msg =
-        codec::encode(&ToWorker::Welcome { study_hash: HASH.into(), model: model() }).unwrap();
+        codec::encode(&ToWorker::Welcome { study_hash: HASH.into(), model: ModelSpec::noop() })
+            .unwrap();
     let dead = n.id().value() ^ 1;
     send(&welcome, &frame_welcome(&sweep, dead, &msg)).unwrap();
     let mut w = IceoryxWorker::new(Some(&root)).unwrap();

@@ -10,15 +10,6 @@ fn root(tag: &str) -> String {
     format!("cftest{}{tag}", std::process::id())
 }
 
-fn model() -> ModelSpec {
-    ModelSpec {
-        kind: "noop".into(),
-        options_json: "{}".into(),
-        param_names: vec!["x".into()],
-        outputs: vec![],
-    }
-}
-
 fn rejected_within(c: &mut IceoryxCoordinator, secs: u64) -> Option<String> {
     let deadline = Instant::now() + Duration::from_secs(secs);
     while Instant::now() < deadline {
@@ -73,7 +64,7 @@ fn join_while(
 fn the_coordinator_rejects_other_versions_and_garbage_and_keeps_serving() {
     let root = root("a");
     let mut c = IceoryxCoordinator::new(Some(&root));
-    c.start(HASH, &model()).unwrap();
+    c.start(HASH, &ModelSpec::noop()).unwrap();
     let hello = Envelope {
         from: "old".into(),
         node: 0,
@@ -116,7 +107,7 @@ fn the_coordinator_rejects_other_versions_and_garbage_and_keeps_serving() {
 fn a_worker_pinned_to_another_study_is_refused_on_both_sides() {
     let root = root("b");
     let mut c = IceoryxCoordinator::new(Some(&root));
-    c.start(HASH, &model()).unwrap();
+    c.start(HASH, &ModelSpec::noop()).unwrap();
     let req = JoinRequest { name: "pinned".into(), threads: 1, study: Some("abcd".into()) };
     let mut seen = None;
     let err = join_while(&root, req, || {
@@ -138,7 +129,8 @@ fn a_worker_refuses_a_coordinator_of_another_version_and_says_so() {
     let wf = channel(&n, &format!("{root}/welcome"), 1, 1, 1, true, MAX_WORKERS).unwrap();
     let welcome = publisher(&wf).unwrap();
     let mut msg =
-        codec::encode(&ToWorker::Welcome { study_hash: HASH.into(), model: model() }).unwrap();
+        codec::encode(&ToWorker::Welcome { study_hash: HASH.into(), model: ModelSpec::noop() })
+            .unwrap();
     msg[..2].copy_from_slice(&9999u16.to_le_bytes());
     send(&welcome, &frame_welcome(&sweep, n.id().value(), &msg)).unwrap();
     let rf =

@@ -25,6 +25,19 @@ pub struct ModelSpec {
     pub outputs: Vec<String>,
 }
 
+#[cfg(test)]
+impl ModelSpec {
+    /// The transports' tests' model: kind `noop`, one parameter `x`.
+    pub(crate) fn noop() -> Self {
+        ModelSpec {
+            kind: "noop".into(),
+            options_json: "{}".into(),
+            param_names: vec!["x".into()],
+            outputs: vec![],
+        }
+    }
+}
+
 /// One run to do: a parameter set in physical units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Task {

@@ -11,15 +11,6 @@ fn endpoint(k: u16) -> String {
     format!("tcp/127.0.0.1:{}", 40000 + (std::process::id() % 10000) as u16 + k)
 }
 
-fn model() -> ModelSpec {
-    ModelSpec {
-        kind: "noop".into(),
-        options_json: "{}".into(),
-        param_names: vec!["x".into()],
-        outputs: vec![],
-    }
-}
-
 /// The first event within 10 s that `want` accepts; panics on a Joined or
 /// Left it does not accept (nobody else should join or leave here).
 fn expect(c: &mut ZenohCoordinator, want: impl Fn(&TransportEvent) -> bool) -> TransportEvent {
@@ -48,6 +39,18 @@ fn joined_worker(ep: &str, name: &str) -> ZenohWorker {
     w
 }
 
+/// A coordinator started at `ep` with one worker, `w`, joined: both, and
+/// the worker's id.
+fn started_with_worker(ep: &str) -> (ZenohCoordinator, ZenohWorker, WorkerId) {
+    let mut c = ZenohCoordinator::new(ep);
+    c.start(HASH, &ModelSpec::noop()).unwrap();
+    let w = joined_worker(ep, "w");
+    match expect(&mut c, |ev| matches!(ev, TransportEvent::Joined { .. })) {
+        TransportEvent::Joined { worker, .. } => (c, w, worker),
+        _ => unreachable!(),
+    }
+}
+
 fn next_ticket(w: &mut ZenohWorker) -> Ticket {
     for _ in 0..100 {
         if let LinkEvent::Task(t) = w.next(Duration::from_millis(100)).unwrap() {
@@ -61,7 +64,7 @@ fn next_ticket(w: &mut ZenohWorker) -> Ticket {
 fn a_liveliness_token_without_a_hello_makes_no_worker() {
     let ep = endpoint(1);
     let mut c = ZenohCoordinator::new(&ep);
-    c.start(HASH, &model()).unwrap();
+    c.start(HASH, &ModelSpec::noop()).unwrap();
     let intruder = open_session(&ep, false).unwrap();
     let key = format!("{}/alive/intruder/1", sweep_prefix(HASH));
     let _token = intruder.liveliness().declare_token(key).wait().unwrap();
@@ -76,14 +79,7 @@ fn a_liveliness_token_without_a_hello_makes_no_worker() {
 #[test]
 fn an_error_reply_fails_the_attempt_and_the_worker_stays() {
     let ep = endpoint(2);
-    let mut c = ZenohCoordinator::new(&ep);
-    c.start(HASH, &model()).unwrap();
-    let mut w = joined_worker(&ep, "w");
-    let TransportEvent::Joined { worker, .. } =
-        expect(&mut c, |ev| matches!(ev, TransportEvent::Joined { .. }))
-    else {
-        unreachable!()
-    };
+    let (mut c, mut w, worker) = started_with_worker(&ep);
     c.send(worker, Task { id: TaskId(1), params: vec![1.0] }).unwrap();
     let query = next_ticket(&mut w).route.downcast::<Query>().unwrap();
     query.reply_err("model refused").wait().unwrap();
@@ -104,14 +100,7 @@ fn an_error_reply_fails_the_attempt_and_the_worker_stays() {
 #[test]
 fn one_reply_per_task_query_counts_and_a_hand_back_is_reported() {
     let ep = endpoint(3);
-    let mut c = ZenohCoordinator::new(&ep);
-    c.start(HASH, &model()).unwrap();
-    let mut w = joined_worker(&ep, "w");
-    let TransportEvent::Joined { worker, .. } =
-        expect(&mut c, |ev| matches!(ev, TransportEvent::Joined { .. }))
-    else {
-        unreachable!()
-    };
+    let (mut c, mut w, worker) = started_with_worker(&ep);
     c.send(worker, Task { id: TaskId(3), params: vec![3.0] }).unwrap();
     let query = next_ticket(&mut w).route.downcast::<Query>().unwrap();
     for wall_s in [1.0, 12345.0] {
