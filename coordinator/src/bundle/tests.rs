@@ -47,7 +47,8 @@ role = "calibration"
 
 const RUN: &str = "# a comment\nt,base_ax,A1,D1\n0.0,0.1,0.5,0.001\n0.01,0.2,,0.002\n0.02,0.3,nan,0.003\n0.03,0.4,1.0,\n";
 
-fn make(toml: &str, run: &str) -> tempfile::TempDir {
+/// A bundle folder with `toml` as bundle.toml and `run` as runs/r1.csv.
+pub(super) fn make(toml: &str, run: &str) -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir_all(dir.path().join("runs")).unwrap();
     std::fs::write(dir.path().join("bundle.toml"), toml).unwrap();

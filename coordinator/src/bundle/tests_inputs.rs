@@ -3,6 +3,7 @@
 //! confined to the folder and regular, memory per bundle, absurd values,
 //! `modal.csv`'s duplicate check).
 
+use super::tests::make;
 use super::*;
 use std::path::Path;
 
@@ -37,14 +38,6 @@ input_units = "m/s2"
 "#;
 
 const RUN: &str = "t,base_ax,A1\n0.0,0.1,0.5\n0.01,0.2,\n0.02,0.3,1.0\n";
-
-fn make(toml: &str, run: &str) -> tempfile::TempDir {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::create_dir_all(dir.path().join("runs")).unwrap();
-    std::fs::write(dir.path().join("bundle.toml"), toml).unwrap();
-    std::fs::write(dir.path().join("runs/r1.csv"), run).unwrap();
-    dir
-}
 
 fn refused(dir: &Path) -> String {
     read_bundle(dir).expect_err("bundle should be refused").to_string()
