@@ -14,6 +14,7 @@ use coordinator::diagnose::damping_path::DampingPathUse;
 use coordinator::diagnose::evidence::evidence;
 use coordinator::diagnose::executor::FeExecutor;
 use coordinator::diagnose::farm_executor::{FarmExecutor, FarmPlan};
+use coordinator::diagnose::likelihood::LikelihoodKind;
 use coordinator::diagnose::pipeline::{diagnose_with, DiagnoseOptions, Diagnosis};
 use coordinator::diagnose::resample::Decimated;
 use coordinator::diagnose::verdict::{verdict, VerdictJson};
@@ -83,6 +84,11 @@ pub struct Args {
     /// diagnosis.json beside the verdict, which they do not change.
     #[arg(long, conflicts_with = "linear_only")]
     pub evidence: bool,
+    /// With --evidence: the likelihood it integrates, `band` (Whittle over
+    /// the model's band, 0 to 40 Hz: its nats do not grow with the sampling
+    /// rate) or `time` (the calibration's Gaussian under channel weights).
+    #[arg(long, requires = "evidence", default_value = "band", value_parser = ["band", "time"])]
+    pub evidence_likelihood: String,
     /// Run the linear stage only: print its fit of the weakest runs and
     /// `modal.csv` and write it to OUT/linear.json.
     #[arg(long)]
@@ -120,7 +126,13 @@ pub fn run(a: Args) -> Result<()> {
     let opts = DiagnoseOptions {
         budget,
         linear_stage: !a.no_linear_stage,
-        evidence: a.evidence.then(EvidencePolicy::default),
+        evidence: a.evidence.then(|| EvidencePolicy {
+            likelihood: match a.evidence_likelihood.as_str() {
+                "time" => LikelihoodKind::Time,
+                _ => LikelihoodKind::Band,
+            },
+            ..EvidencePolicy::default()
+        }),
         ..Default::default()
     };
     if a.linear_only {

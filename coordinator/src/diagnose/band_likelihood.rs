@@ -15,9 +15,37 @@
 //! at 100 Hz, 6380 at 200 Hz). A spectral level per sub-band is the
 //! residual's own discrepancy-plus-noise model, coarse in frequency: a
 //! misfit near a resonance raises its sub-band's level and counts there
-//! only. Not used by the diagnosis yet ([model-selection]).
+//! only. The class evidence scores points by it
+//! ([`super::likelihood::Likelihood::Band`]); the calibration's searches
+//! still use the time-domain weights.
 
 use rustfft::{num_complex::Complex64, FftPlanner};
+
+/// The model's band's upper edge (Hz): the ceilings' modes of interest lie
+/// below 25 Hz (the seed's specimens 5 to 20 Hz) and a simulation at 100 Hz
+/// resolves 40 Hz within its 0.8 Nyquist filter corner
+/// ([`super::resample`]); records sampled at 100 Hz or faster are then all
+/// judged on the same band, so their likelihoods count the same bins.
+pub const MODEL_BAND_TOP_HZ: f64 = 40.0;
+
+/// Width of the sub-bands whose spectral level is profiled (Hz): the
+/// half-power bandwidth of a mode with 5 % damping at 20 Hz, so that a
+/// misfit about one resonance raises the level of its own sub-band and
+/// counts there.
+pub const SUB_BAND_HZ: f64 = 2.0;
+
+/// The model's band for a record sampled every `dt_s`: from the first
+/// Fourier bin to [`MODEL_BAND_TOP_HZ`] or 0.8 of the Nyquist frequency,
+/// whichever is lower.
+pub fn model_band_hz(dt_s: f64) -> (f64, f64) {
+    (0.0, MODEL_BAND_TOP_HZ.min(0.8 * 0.5 / dt_s))
+}
+
+/// [`band_neg_log_lik`] of residual `r` over the model's band
+/// ([`model_band_hz`]) in sub-bands of [`SUB_BAND_HZ`].
+pub fn model_band_fit(r: &[f64], dt_s: f64) -> Option<BandFit> {
+    band_neg_log_lik(r, dt_s, model_band_hz(dt_s), SUB_BAND_HZ)
+}
 
 /// The band likelihood of one residual.
 #[derive(Debug, Clone, Copy, PartialEq)]

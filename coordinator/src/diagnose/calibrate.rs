@@ -10,7 +10,8 @@ use super::cause::{Cause, Demand, Prior};
 use super::damping_path::{DampingPath, DampingPathUse};
 use super::envelope::envelope_neg_log_lik;
 use super::executor::{ExecutorError, FeExecutor, Sims};
-use super::fit::{neg_log_lik, ChannelFit, Evaluation};
+use super::fit::{ChannelFit, Evaluation};
+use super::likelihood::Likelihood;
 use super::modal_fit::ModalFit;
 use crate::bundle::Bundle;
 use crate::design::draw;
@@ -83,8 +84,14 @@ impl Point {
     /// identified frequencies when the bundle has them (+∞ when the
     /// simulation failed).
     pub fn neg_log_lik(&self, n_eff: &[f64]) -> f64 {
+        self.neg_log_lik_by(&Likelihood::Time(n_eff))
+    }
+
+    /// −log L under likelihood `lik`, the identified frequencies' term
+    /// included (+∞ when the simulation failed).
+    pub fn neg_log_lik_by(&self, lik: &Likelihood<'_>) -> f64 {
         let modal = self.modal.as_ref().map_or(0.0, |m| m.neg_log_lik);
-        self.fit.as_ref().map_or(f64::INFINITY, |ch| neg_log_lik(ch, n_eff) + modal)
+        self.fit.as_ref().map_or(f64::INFINITY, |ch| lik.channels(ch) + modal)
     }
 }
 
@@ -165,7 +172,12 @@ impl Calibration {
 
     /// Index of the best evaluated point under `n_eff`.
     pub fn best(&self, n_eff: &[f64]) -> Option<usize> {
-        let f = self.objective(n_eff);
+        self.best_by(&Likelihood::Time(n_eff))
+    }
+
+    /// Index of the best evaluated point under likelihood `lik`.
+    pub fn best_by(&self, lik: &Likelihood<'_>) -> Option<usize> {
+        let f: Vec<f64> = self.points.iter().map(|p| p.neg_log_lik_by(lik)).collect();
         (0..f.len()).filter(|k| f[*k].is_finite()).min_by(|a, b| f[*a].total_cmp(&f[*b]))
     }
 

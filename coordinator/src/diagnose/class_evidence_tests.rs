@@ -92,19 +92,33 @@ fn quadrature(ln_l: &mut dyn FnMut(&[Vec<f64>]) -> Vec<f64>) -> (f64, f64, usize
 }
 
 /// ln L of the baseline class on the tiny campaign's calibration runs at
-/// unit-cube points, through `exec`, under weights `n_eff`.
+/// unit-cube points, through `exec`, under likelihood `lik`.
 fn exact_ln_l(
     ev: &Evaluation<'_>,
-    n_eff: &[f64],
+    lik: &Likelihood<'_>,
     exec: &mut dyn FeExecutor,
     us: &[Vec<f64>],
 ) -> Vec<f64> {
     let pts = evaluate_points(ev, us, exec).unwrap();
-    pts.iter().map(|p| -p.neg_log_lik(n_eff)).collect()
+    pts.iter().map(|p| -p.neg_log_lik_by(lik)).collect()
 }
 
 #[test]
 fn evidence_of_a_small_fe_campaign_matches_quadrature_over_the_fe_model() {
+    matches_quadrature(LikelihoodKind::Time);
+}
+
+#[test]
+fn band_evidence_of_a_small_fe_campaign_matches_quadrature_over_the_fe_model() {
+    // The calibration minimised the time likelihood: the band evidence
+    // starts from its curvature, rescaled.
+    matches_quadrature(LikelihoodKind::Band);
+}
+
+/// The evidence under likelihood `kind` against quadrature of the same
+/// likelihood, from the calibration and from its best point alone with a
+/// curvature 30 times off either way.
+fn matches_quadrature(kind: LikelihoodKind) {
     let dir = tempfile::tempdir().unwrap();
     let b = tiny_bundle(dir.path());
     let (cal_runs, _) = split_runs(&b);
@@ -114,21 +128,22 @@ fn evidence_of_a_small_fe_campaign_matches_quadrature_over_the_fe_model() {
     // The channel weights: the residuals' at the prior's centre, held fixed.
     let centre = evaluate_points(&ev, &[vec![0.5, 0.5]], &mut exec).unwrap();
     let n_eff = effective_sizes(centre[0].fit.as_ref().unwrap());
+    let lik = kind.with(&n_eff);
 
     let t = std::time::Instant::now();
     let (ln_z_quad, quad_err, quad_runs) =
-        quadrature(&mut |us| exact_ln_l(&ev, &n_eff, &mut exec, us));
+        quadrature(&mut |us| exact_ln_l(&ev, &lik, &mut exec, us));
     let quad_s = t.elapsed().as_secs_f64();
     let t = std::time::Instant::now();
     let budget = Budget { threads: 2, ..Budget::default() };
     let class = (Cause::None, &priors[..]);
     let cal =
         calibrate(&b, class, &cal_runs, &n_eff, &budget, None, &mut exec, &mut |_, _| {}).unwrap();
-    let policy = EvidencePolicy::default();
+    let policy = EvidencePolicy { likelihood: kind, ..EvidencePolicy::default() };
     let got = class_evidence(&cal, (&b, &cal_runs), &n_eff, &mut exec, &policy).unwrap();
     let smc_s = t.elapsed().as_secs_f64();
     eprintln!(
-        "quadrature ln Z {ln_z_quad:.3} (grid difference {quad_err:.3}, {quad_runs} FE points, {quad_s:.1} s); \
+        "{kind:?}: quadrature ln Z {ln_z_quad:.3} (grid difference {quad_err:.3}, {quad_runs} FE points, {quad_s:.1} s); \
          class_evidence {:.3} ± {:.3} (k̂ {:.2}, converged {}, Laplace {:.3}; {} + {} FE points, {} rounds, {smc_s:.1} s)",
         got.ln_evidence,
         got.ln_evidence_sd,
@@ -157,14 +172,14 @@ fn evidence_of_a_small_fe_campaign_matches_quadrature_over_the_fe_model() {
     // quadratic from) and a curvature wrong by a factor of 30 either way (a
     // Laplace form 5.5 times too wide or too narrow): the rounds must still
     // reach the quadrature's evidence.
-    let best = cal.best(&n_eff).unwrap();
+    let best = cal.best_by(&lik).unwrap();
     for factor in [1.0 / 30.0, 30.0] {
         let mut off = cal.clone();
         off.points = vec![cal.points[best].clone()];
         off.gauss_newton = off.gauss_newton.map(|h| h * factor);
         let got = class_evidence(&off, (&b, &cal_runs), &n_eff, &mut exec, &policy).unwrap();
         eprintln!(
-            "curvature x {factor:.3}: {:.3} ± {:.3} (k̂ {:.2}, converged {}, Laplace {:.3}; {} FE points, {} rounds)",
+            "{kind:?}, curvature x {factor:.3}: {:.3} ± {:.3} (k̂ {:.2}, converged {}, Laplace {:.3}; {} FE points, {} rounds)",
             got.ln_evidence,
             got.ln_evidence_sd,
             got.k_hat,

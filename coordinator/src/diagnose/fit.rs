@@ -31,6 +31,9 @@ pub struct ChannelFit {
     /// Nugget estimate of the sensor-noise variance in the residual
     /// ([`super::noise_floor::nugget_variance`]; 0 when too short).
     pub noise_var: f64,
+    /// The residual's likelihood over the model's band
+    /// ([`super::band_likelihood::model_band_fit`]; None without bins).
+    pub band: Option<super::band_likelihood::BandFit>,
 }
 
 impl ChannelFit {
@@ -52,6 +55,7 @@ impl ChannelFit {
             rms_meas: 1.0,
             excited: true,
             noise_var: 0.0,
+            band: Some(super::band_likelihood::BandFit { neg_log_lik: nll, bins: 1 }),
         }
     }
 }
@@ -350,6 +354,7 @@ fn channel_fit(run: &RunData, id: &str, m: &[f64], off: f64, r: &[f64]) -> Chann
         rms_meas: (mm / n.max(1) as f64).sqrt(),
         excited: true,
         noise_var: super::noise_floor::nugget_variance(r).unwrap_or(0.0),
+        band: super::band_likelihood::model_band_fit(r, run.dt_s),
     }
 }
 

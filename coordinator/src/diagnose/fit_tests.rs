@@ -57,6 +57,7 @@ fn channel(rms_meas: f64, rms_res: f64) -> ChannelFit {
         rms_meas,
         excited: true,
         noise_var: 0.0,
+        band: None,
     }
 }
 

@@ -23,6 +23,7 @@ pub mod farm_executor;
 pub mod filter;
 pub mod fit;
 pub mod levenberg;
+pub mod likelihood;
 pub mod linear_part;
 pub mod linear_stage;
 pub mod loop_damping;

@@ -4,6 +4,7 @@
 //! bar chart of the log Bayes factors against the best class.
 
 use super::class_odds::ClassOdds;
+use super::likelihood::LikelihoodKind;
 use super::pipeline::Diagnosis;
 use super::verdict::EVIDENCE_METHOD;
 use crate::report::{bar_chart, BarChart, BarGroup, Block, PlotSize, Section, Table};
@@ -37,9 +38,9 @@ pub fn evidence_section(d: &Diagnosis) -> Option<Section> {
     });
     let blocks = vec![
         Block::Paragraph(format!(
-            "{EVIDENCE_METHOD}. Probabilities under equal prior odds. The verdict above does not \
-             use them yet: without a model-discrepancy term in the likelihood, an extension's \
-             freedom buys nats from any misfit of the baseline."
+            "{EVIDENCE_METHOD}. ln L: {}. Probabilities under equal prior odds. The verdict above \
+             does not use them yet.",
+            likelihood_words(&odds)
         )),
         Block::Table(Table {
             caption: "ln Z relative to the best class (nats); sd its standard error; k̂ the Pareto \
@@ -64,6 +65,22 @@ pub fn evidence_section(d: &Diagnosis) -> Option<Section> {
         Block::figure("Log Bayes factor of each class against the best.", chart),
     ];
     Some(Section { id: "evidence".into(), heading: "Model classes: evidence".into(), blocks })
+}
+
+/// What the classes' ln L is, in words.
+fn likelihood_words(odds: &[Option<&Result<ClassOdds, String>>]) -> &'static str {
+    let kind = odds.iter().flatten().find_map(|o| o.as_ref().ok()).map(|o| o.evidence.likelihood);
+    match kind {
+        Some(LikelihoodKind::Time) => {
+            "the time-domain Gaussian under each channel's effective sample size (its nats grow \
+             with the sampling rate)"
+        }
+        Some(LikelihoodKind::Band) => {
+            "the Whittle likelihood of the residuals over the model's band (to 40 Hz), its level \
+             profiled per 2 Hz sub-band (its nats do not grow with the sampling rate)"
+        }
+        None => "none computed",
+    }
 }
 
 /// One table row.
@@ -106,6 +123,7 @@ mod tests {
             laplace_ln_evidence: ln_z - 0.2,
             rounds: vec![],
             fe_points: 80,
+            likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
         };
         ClassOdds { evidence, probability: p }
     }

@@ -186,6 +186,7 @@ mod tests {
             rms_meas: 1.0,
             excited: true,
             noise_var: noise,
+            band: None,
         }
     }
 

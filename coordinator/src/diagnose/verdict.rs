@@ -68,6 +68,10 @@ pub struct CandidateJson {
 pub struct EvidenceJson {
     /// How it was computed.
     pub method: String,
+    /// The likelihood integrated: `band` (Whittle over the model's band) or
+    /// `time` (Gaussian under the channel weights).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub likelihood: Option<&'static str>,
     /// ln p(data | class) (nats).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ln_evidence: Option<f64>,
@@ -116,6 +120,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
             let e = &o.evidence;
             EvidenceJson {
                 method,
+                likelihood: Some(e.likelihood.as_str()),
                 ln_evidence: Some(e.ln_evidence),
                 ln_evidence_sd: Some(e.ln_evidence_sd),
                 probability: Some(o.probability),
@@ -129,6 +134,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
         }
         Err(why) => EvidenceJson {
             method,
+            likelihood: None,
             ln_evidence: None,
             ln_evidence_sd: None,
             probability: None,
