@@ -84,10 +84,13 @@ pub struct Args {
     /// diagnosis.json beside the verdict, which they do not change.
     #[arg(long, conflicts_with = "linear_only")]
     pub evidence: bool,
-    /// With --evidence: the likelihood it integrates, `band` (Whittle over
-    /// the model's band, 0 to 40 Hz: its nats do not grow with the sampling
-    /// rate) or `time` (the calibration's Gaussian under channel weights).
-    #[arg(long, requires = "evidence", default_value = "band", value_parser = ["band", "time"])]
+    /// With --evidence: the likelihood it integrates, `band` (the residual
+    /// within the model's band, 0 to 40 Hz, under its in-band degrees of
+    /// freedom: its nats do not grow with the sampling rate), `time` (the
+    /// calibration's Gaussian under effective sample sizes) or `whittle`
+    /// (the periodogram's level per 2 Hz sub-band; for comparison).
+    #[arg(long, requires = "evidence", default_value = "band",
+          value_parser = ["band", "time", "whittle"])]
     pub evidence_likelihood: String,
     /// Run the linear stage only: print its fit of the weakest runs and
     /// `modal.csv` and write it to OUT/linear.json.
@@ -127,10 +130,7 @@ pub fn run(a: Args) -> Result<()> {
         budget,
         linear_stage: !a.no_linear_stage,
         evidence: a.evidence.then(|| EvidencePolicy {
-            likelihood: match a.evidence_likelihood.as_str() {
-                "time" => LikelihoodKind::Time,
-                _ => LikelihoodKind::Band,
-            },
+            likelihood: LikelihoodKind::parse(&a.evidence_likelihood).unwrap_or_default(),
             ..EvidencePolicy::default()
         }),
         ..Default::default()

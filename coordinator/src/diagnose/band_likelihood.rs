@@ -15,9 +15,11 @@
 //! at 100 Hz, 6380 at 200 Hz). A spectral level per sub-band is the
 //! residual's own discrepancy-plus-noise model, coarse in frequency: a
 //! misfit near a resonance raises its sub-band's level and counts there
-//! only. The class evidence scores points by it
-//! ([`super::likelihood::Likelihood::Band`]); the calibration's searches
-//! still use the time-domain weights.
+//! only. The same pass gives the residual's mean square within the band
+//! and the Satterthwaite degrees of freedom of that mean square, the
+//! rate-free weights of [`super::likelihood::Likelihood::Band`]; the
+//! per-sub-band likelihood itself is [`super::likelihood::Likelihood::Whittle`]
+//! (see there why it is not the default).
 
 use rustfft::{num_complex::Complex64, FftPlanner};
 
@@ -47,13 +49,22 @@ pub fn model_band_fit(r: &[f64], dt_s: f64) -> Option<BandFit> {
     band_neg_log_lik(r, dt_s, model_band_hz(dt_s), SUB_BAND_HZ)
 }
 
-/// The band likelihood of one residual.
+/// The band likelihood of one residual, and its power within the band.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BandFit {
     /// −ln L (nat, constants dropped).
     pub neg_log_lik: f64,
     /// Fourier bins within the band (the likelihood's sample count).
     pub bins: usize,
+    /// The residual's mean square within the band (Parseval: (2 / T) Σ I_k,
+    /// its square units).
+    pub mean_square: f64,
+    /// Degrees of freedom of that mean square (Satterthwaite):
+    /// 2 (Σ_b K_b S_b)² / Σ_b K_b S_b², S_b the mean periodogram of
+    /// sub-band b; 2 × bins for a residual white within the band, about
+    /// 2 K_b for one whose power lies in one sub-band. Fixed by the band and
+    /// the residual's spectral shape, not by the sampling rate.
+    pub dof: f64,
 }
 
 /// The band likelihood of residual `r` (step `dt_s`) over `band_hz` =
@@ -82,8 +93,7 @@ pub fn band_neg_log_lik(
         r.iter().map(|v| Complex64::new(if v.is_finite() { v - mean } else { 0.0 }, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut x);
     let t_s = n as f64 * dt_s;
-    let mut nll = 0.0;
-    let mut bins = 0;
+    let mut acc = Accumulated::default();
     let mut band = Vec::new();
     let mut edge = lo + width_hz;
     for (k, c) in x.iter().enumerate().take(n / 2 + 1).skip(1) {
@@ -92,26 +102,47 @@ pub fn band_neg_log_lik(
             continue;
         }
         if f_hz > edge && !band.is_empty() {
-            nll += sub_band(&band);
-            bins += band.len();
+            acc.add(&band);
             band.clear();
             edge += width_hz * ((f_hz - edge) / width_hz).ceil().max(1.0);
         }
         band.push(c.norm_sqr() * dt_s / n as f64);
     }
     if !band.is_empty() {
-        nll += sub_band(&band);
-        bins += band.len();
+        acc.add(&band);
     }
-    (bins > 0).then_some(BandFit { neg_log_lik: nll, bins })
+    (acc.bins > 0).then(|| BandFit {
+        neg_log_lik: acc.nll,
+        bins: acc.bins,
+        mean_square: 2.0 * acc.power / t_s,
+        dof: if acc.power_sq > 0.0 { 2.0 * acc.power * acc.power / acc.power_sq } else { 0.0 },
+    })
 }
 
-/// K (ln mean I + 1) of one sub-band's periodogram values (a zero level
-/// counts as the smallest positive one).
-fn sub_band(values: &[f64]) -> f64 {
-    let k = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / k;
-    k * (mean.max(f64::MIN_POSITIVE).ln() + 1.0)
+/// Sums over the sub-bands seen so far.
+#[derive(Default)]
+struct Accumulated {
+    /// Σ_b K_b (ln S_b + 1).
+    nll: f64,
+    /// Σ_b K_b.
+    bins: usize,
+    /// Σ_b K_b S_b (= Σ I_k).
+    power: f64,
+    /// Σ_b K_b S_b².
+    power_sq: f64,
+}
+
+impl Accumulated {
+    /// Adds one sub-band's periodogram values (a zero level counts as the
+    /// smallest positive one in the likelihood).
+    fn add(&mut self, values: &[f64]) {
+        let k = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / k;
+        self.nll += k * (mean.max(f64::MIN_POSITIVE).ln() + 1.0);
+        self.bins += values.len();
+        self.power += k * mean;
+        self.power_sq += k * mean * mean;
+    }
 }
 
 #[cfg(test)]
@@ -161,6 +192,26 @@ mod tests {
         let fit = band_neg_log_lik(&r, 0.01, (0.0, 50.0), 50.0).unwrap();
         let level = (fit.neg_log_lik / fit.bins as f64 - 1.0).exp();
         assert!((level / (0.01 / 3.0) - 1.0).abs() < 0.03, "{level}");
+    }
+
+    #[test]
+    fn mean_square_and_dof_of_a_band_limited_residual_hold_at_any_rate() {
+        let band = (0.55, 20.55);
+        let a = band_neg_log_lik(&residual(100.0), 0.01, band, 5.0).unwrap();
+        let b = band_neg_log_lik(&residual(200.0), 0.005, band, 5.0).unwrap();
+        // Σ amplitude² / 2 of the four sinusoids.
+        let ms = (0.09 + 0.01 + 0.0025 + 0.0004) / 2.0;
+        assert!((a.mean_square / ms - 1.0).abs() < 1e-9, "{a:?}");
+        assert!((b.mean_square - a.mean_square).abs() < 1e-12 && (b.dof - a.dof).abs() < 1e-9);
+        // Sub-band powers p_b = a_b² / 2 in 50 bins each: 2 (Σ p)² / Σ p² / 50.
+        let p = [0.09, 0.01, 0.0025, 0.0004].map(|a2: f64| a2 / 2.0);
+        let dof =
+            2.0 * p.iter().sum::<f64>().powi(2) / (p.iter().map(|v| v * v).sum::<f64>() / 50.0);
+        assert!((a.dof / dof - 1.0).abs() < 1e-9 && dof < 2.0 * 200.0, "{a:?} vs {dof}");
+        // White within the band: about 2 × bins.
+        let w = band_neg_log_lik(&white_noise(20_000, 1.0, 9), 0.01, (0.0, 40.0), 2.0).unwrap();
+        assert!((w.dof / (2.0 * w.bins as f64) - 1.0).abs() < 0.02, "{w:?}");
+        assert!((w.mean_square / (0.8 / 3.0) - 1.0).abs() < 0.03, "{w:?}");
     }
 
     #[test]

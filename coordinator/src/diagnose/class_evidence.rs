@@ -61,7 +61,7 @@
 use super::calibrate::{evaluate_points, Calibration};
 use super::executor::{ExecutorError, FeExecutor};
 use super::fit::Evaluation;
-use super::likelihood::{Likelihood, LikelihoodKind};
+use super::likelihood::{ChannelWeights, Likelihood, LikelihoodKind};
 use crate::bundle::Bundle;
 use nalgebra::{DMatrix, DVector};
 use stats::calibration::UniformBox;
@@ -244,20 +244,20 @@ pub enum ClassEvidenceError {
 }
 
 /// The evidence of `cal`'s class on `runs` of `bundle` under the policy's
-/// likelihood (`n_eff`: the diagnosis's channel weights, those of the
-/// time likelihood that `cal`'s Gauss–Newton matrix is the curvature of),
+/// likelihood (`w`: the diagnosis's channel weights; `cal`'s Gauss–Newton
+/// matrix is the curvature of the time likelihood under `w.n_eff`),
 /// its FE runs through `exec`, by the rounds of `policy` (see the module
 /// doc).
 pub fn class_evidence(
     cal: &Calibration,
     (bundle, runs): (&Bundle, &[usize]),
-    n_eff: &[f64],
+    w: ChannelWeights<'_>,
     exec: &mut dyn FeExecutor,
     policy: &EvidencePolicy,
 ) -> Result<ClassEvidence, ClassEvidenceError> {
     policy.check()?;
-    let lik = policy.likelihood.with(n_eff);
-    let scale = rise_ratio(cal, n_eff, &lik, policy.floor(cal.priors.len()));
+    let lik = policy.likelihood.with(w);
+    let scale = rise_ratio(cal, w.n_eff, &lik, policy.floor(cal.priors.len()));
     let start = Laplace::of(cal, &lik, scale)?;
     let mut driver = Rounds {
         ev: cal.evaluation(bundle, runs),

@@ -8,6 +8,7 @@ use super::super::cause::{Cause, BASELINE_PRIORS};
 use super::super::executor::ThreadExecutor;
 use super::super::farm_executor_tests::tiny_bundle;
 use super::super::fit::{effective_sizes, Evaluation};
+use super::super::likelihood::band_sizes;
 use super::super::pipeline::split_runs;
 use super::*;
 use nalgebra::{DMatrix, DVector};
@@ -128,7 +129,9 @@ fn matches_quadrature(kind: LikelihoodKind) {
     // The channel weights: the residuals' at the prior's centre, held fixed.
     let centre = evaluate_points(&ev, &[vec![0.5, 0.5]], &mut exec).unwrap();
     let n_eff = effective_sizes(centre[0].fit.as_ref().unwrap());
-    let lik = kind.with(&n_eff);
+    let band_dof = band_sizes(centre[0].fit.as_ref().unwrap());
+    let w = ChannelWeights { n_eff: &n_eff, band_dof: &band_dof };
+    let lik = kind.with(w);
 
     let t = std::time::Instant::now();
     let (ln_z_quad, quad_err, quad_runs) =
@@ -140,7 +143,7 @@ fn matches_quadrature(kind: LikelihoodKind) {
     let cal =
         calibrate(&b, class, &cal_runs, &n_eff, &budget, None, &mut exec, &mut |_, _| {}).unwrap();
     let policy = EvidencePolicy { likelihood: kind, ..EvidencePolicy::default() };
-    let got = class_evidence(&cal, (&b, &cal_runs), &n_eff, &mut exec, &policy).unwrap();
+    let got = class_evidence(&cal, (&b, &cal_runs), w, &mut exec, &policy).unwrap();
     let smc_s = t.elapsed().as_secs_f64();
     eprintln!(
         "{kind:?}: quadrature ln Z {ln_z_quad:.3} (grid difference {quad_err:.3}, {quad_runs} FE points, {quad_s:.1} s); \
@@ -177,7 +180,7 @@ fn matches_quadrature(kind: LikelihoodKind) {
         let mut off = cal.clone();
         off.points = vec![cal.points[best].clone()];
         off.gauss_newton = off.gauss_newton.map(|h| h * factor);
-        let got = class_evidence(&off, (&b, &cal_runs), &n_eff, &mut exec, &policy).unwrap();
+        let got = class_evidence(&off, (&b, &cal_runs), w, &mut exec, &policy).unwrap();
         eprintln!(
             "{kind:?}, curvature x {factor:.3}: {:.3} ± {:.3} (k̂ {:.2}, converged {}, Laplace {:.3}; {} FE points, {} rounds)",
             got.ln_evidence,

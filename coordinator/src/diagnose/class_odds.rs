@@ -10,6 +10,7 @@
 use super::calibrate::Calibration;
 use super::class_evidence::{class_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy};
 use super::executor::{ExecutorError, FeExecutor};
+use super::likelihood::ChannelWeights;
 use crate::bundle::Bundle;
 
 /// A class's evidence and its posterior probability.
@@ -23,13 +24,13 @@ pub struct ClassOdds {
 }
 
 /// The evidence of each calibration in `cals` on `runs` of `bundle`
-/// (channel weights `n_eff`), each with its posterior probability among
+/// (channel weights `w`), each with its posterior probability among
 /// those that have one; a class whose evidence failed carries why.
 /// `progress` hears (done, planned).
 pub fn class_odds(
     cals: &[Calibration],
     (bundle, runs): (&Bundle, &[usize]),
-    n_eff: &[f64],
+    w: ChannelWeights<'_>,
     exec: &mut dyn FeExecutor,
     policy: &EvidencePolicy,
     progress: &mut dyn FnMut(usize, usize),
@@ -37,7 +38,7 @@ pub fn class_odds(
     let mut out = Vec::with_capacity(cals.len());
     for (k, cal) in cals.iter().enumerate() {
         progress(k, cals.len());
-        out.push(match class_evidence(cal, (bundle, runs), n_eff, exec, policy) {
+        out.push(match class_evidence(cal, (bundle, runs), w, exec, policy) {
             Ok(evidence) => Ok(ClassOdds { evidence, probability: f64::NAN }),
             Err(ClassEvidenceError::Executor(e)) => return Err(e),
             Err(e) => Err(e.to_string()),

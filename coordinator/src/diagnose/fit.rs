@@ -55,7 +55,12 @@ impl ChannelFit {
             rms_meas: 1.0,
             excited: true,
             noise_var: 0.0,
-            band: Some(super::band_likelihood::BandFit { neg_log_lik: nll, bins: 1 }),
+            band: Some(super::band_likelihood::BandFit {
+                neg_log_lik: nll,
+                bins: 1,
+                mean_square: nll.exp(),
+                dof: 2.0,
+            }),
         }
     }
 }

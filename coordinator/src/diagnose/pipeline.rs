@@ -20,6 +20,7 @@ use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
 use super::fit::{
     effective_sizes, mean_excess_nrmse, mean_nrmse, ChannelFit, Evaluation, Simulated,
 };
+use super::likelihood::{band_sizes, ChannelWeights};
 use super::linear_part::{self, calibrate_linear_part};
 use super::linear_stage::{self, LinearStage};
 use super::mdl::{gn_sd, laplace_sd, mdl, Mdl};
@@ -317,7 +318,9 @@ pub fn diagnose_with(
     if let Some(policy) = &opts.evidence {
         let stage = "class evidence (tempered SMC, checked by FE runs)";
         let mut report = |done, planned| progress(stage, done, planned);
-        let odds = class_odds(&v.cals, (b, &cal_runs), &n_eff, exec, policy, &mut report)?;
+        let band_dof = v.baseline_band_dof()?;
+        let w = ChannelWeights { n_eff: &n_eff, band_dof: &band_dof };
+        let odds = class_odds(&v.cals, (b, &cal_runs), w, exec, policy, &mut report)?;
         for (r, o) in results.iter_mut().zip(odds) {
             r.fe_points += o.as_ref().map_or(0, |o| o.evidence.fe_points);
             r.odds = Some(o);
@@ -368,6 +371,15 @@ impl Variants {
     fn baseline_weights(&self) -> Result<Vec<f64>, DiagnoseError> {
         match &self.cals[0].points[self.base_best].fit {
             Ok(ch) => Ok(effective_sizes(ch)),
+            Err(e) => Err(DiagnoseError::Model(e.clone())),
+        }
+    }
+
+    /// The in-band degrees of freedom of the baseline's residual at its
+    /// estimate ([`band_sizes`]), fixed as the effective sizes are.
+    fn baseline_band_dof(&self) -> Result<Vec<f64>, DiagnoseError> {
+        match &self.cals[0].points[self.base_best].fit {
+            Ok(ch) => Ok(band_sizes(ch)),
             Err(e) => Err(DiagnoseError::Model(e.clone())),
         }
     }

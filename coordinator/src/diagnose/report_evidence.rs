@@ -76,8 +76,13 @@ fn likelihood_words(odds: &[Option<&Result<ClassOdds, String>>]) -> &'static str
              with the sampling rate)"
         }
         Some(LikelihoodKind::Band) => {
+            "the Gaussian of the residuals within the model's band (to 40 Hz) under their in-band \
+             degrees of freedom (its nats do not grow with the sampling rate)"
+        }
+        Some(LikelihoodKind::Whittle) => {
             "the Whittle likelihood of the residuals over the model's band (to 40 Hz), its level \
-             profiled per 2 Hz sub-band (its nats do not grow with the sampling rate)"
+             profiled per 2 Hz sub-band (every bin alike: an out-of-phase impact costs as much as a \
+             missed resonance)"
         }
         None => "none computed",
     }
