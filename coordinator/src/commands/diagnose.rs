@@ -15,7 +15,7 @@ use coordinator::diagnose::evidence::evidence;
 use coordinator::diagnose::executor::FeExecutor;
 use coordinator::diagnose::farm_executor::{FarmExecutor, FarmPlan};
 use coordinator::diagnose::likelihood::LikelihoodKind;
-use coordinator::diagnose::pipeline::{diagnose_with, DiagnoseOptions, Diagnosis};
+use coordinator::diagnose::pipeline::{diagnose_with, DiagnoseOptions, Diagnosis, VerdictRule};
 use coordinator::diagnose::resample::Decimated;
 use coordinator::diagnose::verdict::{verdict, VerdictJson};
 use coordinator::farm::FarmSettings;
@@ -92,6 +92,10 @@ pub struct Args {
     #[arg(long, requires = "evidence", default_value = "band",
           value_parser = ["band", "time", "whittle"])]
     pub evidence_likelihood: String,
+    /// With --evidence: what names the cause, `mdl` (the MDL rules) or
+    /// `evidence` (the class of highest posterior probability).
+    #[arg(long, requires = "evidence", default_value = "mdl", value_parser = ["mdl", "evidence"])]
+    pub verdict: String,
     /// Run the linear stage only: print its fit of the weakest runs and
     /// `modal.csv` and write it to OUT/linear.json.
     #[arg(long)]
@@ -133,6 +137,7 @@ pub fn run(a: Args) -> Result<()> {
             likelihood: LikelihoodKind::parse(&a.evidence_likelihood).unwrap_or_default(),
             ..EvidencePolicy::default()
         }),
+        rule: if a.verdict == "evidence" { VerdictRule::Evidence } else { VerdictRule::Mdl },
         ..Default::default()
     };
     if a.linear_only {

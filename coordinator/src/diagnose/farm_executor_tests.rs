@@ -28,7 +28,7 @@ pub(crate) fn tiny_bundle(dir: &std::path::Path) -> Bundle {
 }
 
 /// A budget of a few FE points per variant, and each class's evidence
-/// (400 particles a run).
+/// (400 particles a run), which names the cause.
 pub(crate) fn tiny_options() -> DiagnoseOptions {
     DiagnoseOptions {
         budget: Budget {
@@ -49,6 +49,7 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
             smc: stats::evidence::SmcOptions { particles: 400, ..Default::default() },
             ..EvidencePolicy::default()
         }),
+        rule: super::pipeline::VerdictRule::Evidence,
     }
 }
 

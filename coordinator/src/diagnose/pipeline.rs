@@ -46,6 +46,31 @@ pub struct DiagnoseOptions {
     /// probability ([`super::class_odds`]) by this policy, reported beside
     /// the verdict (which it does not change); None: not computed.
     pub evidence: Option<EvidencePolicy>,
+    /// What names the cause: the MDL rules (default) or, with `evidence`
+    /// set, the class of highest posterior probability.
+    pub rule: VerdictRule,
+}
+
+/// What names the cause among the calibrated classes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VerdictRule {
+    /// The MDL with its handicaps ([`select`], [`MISFIT_NATS`]).
+    #[default]
+    Mdl,
+    /// The class of highest posterior probability under equal prior odds
+    /// ([`super::class_odds`]); the MDL's choice where no class has an
+    /// evidence. The named class's posterior is then computed for it.
+    Evidence,
+}
+
+impl VerdictRule {
+    /// Its name in `diagnosis.json` and on the command line.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            VerdictRule::Mdl => "mdl",
+            VerdictRule::Evidence => "evidence",
+        }
+    }
 }
 
 impl Default for DiagnoseOptions {
@@ -55,6 +80,7 @@ impl Default for DiagnoseOptions {
             candidates: Cause::ALL.to_vec(),
             linear_stage: true,
             evidence: None,
+            rule: VerdictRule::Mdl,
         }
     }
 }
@@ -202,6 +228,8 @@ pub struct Diagnosis {
     /// What the data show that no model explains ([`unexplained`]); the
     /// verdict is then `unexplained`.
     pub unexplained: Option<Unexplained>,
+    /// The rule that named the cause.
+    pub rule: VerdictRule,
 }
 
 /// Splits runs by role; without roles, the strongest run validates.
@@ -326,7 +354,21 @@ pub fn diagnose_with(
             r.odds = Some(o);
         }
     }
+    let pick = match (opts.rule, most_probable(&results)) {
+        (VerdictRule::Evidence, Some(k)) if k != pick => {
+            results[pick].selected = false;
+            results[pick].posterior = None;
+            results[k].selected = true;
+            let post = checked_posterior(&mut v.cals[k], (b, &cal_runs), &n_eff, check, exec)?;
+            results[k].fe_points +=
+                post.as_ref().ok().and_then(|p| p.check).map_or(0, |c| c.fe_points);
+            results[k].posterior = Some(post);
+            k
+        }
+        _ => pick,
+    };
     let mut d = conclude(b, results, pick, (cal_runs, val_runs));
+    d.rule = if most_probable(&d.candidates).is_some() { opts.rule } else { VerdictRule::Mdl };
     d.channels = v.channels;
     d.linear = linear;
     d.unexplained = unexplained(&d);
@@ -634,7 +676,20 @@ fn conclude(
         channels: None,
         linear: None,
         unexplained: None,
+        rule: VerdictRule::Mdl,
     }
+}
+
+/// The candidate of highest evidence among those that have one (None:
+/// no candidate has).
+fn most_probable(results: &[CandidateResult]) -> Option<usize> {
+    let ln_z = |r: &CandidateResult| {
+        r.odds.as_ref().and_then(|o| o.as_ref().ok()).map(|o| o.evidence.ln_evidence)
+    };
+    (0..results.len())
+        .filter_map(|k| ln_z(&results[k]).map(|z| (k, z)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(k, _)| k)
 }
 
 /// The extension a diagnosis names, with its linear part.
@@ -1094,5 +1149,37 @@ mod tests {
         // Out of the running, it does not stop another extension either.
         let pound = scored(Cause::PerimeterPounding, -120.0, None);
         assert_eq!(select(&[none, pound, hyst(-127.0, -130.0)], 0.0), 1);
+    }
+
+    #[test]
+    fn the_most_probable_class_has_the_highest_evidence_among_those_that_have_one() {
+        use crate::diagnose::class_evidence::ClassEvidence;
+        use crate::diagnose::class_odds::ClassOdds;
+        let with = |cause, ln_z: Option<f64>| {
+            let odds = ln_z.map(|z| {
+                let evidence = ClassEvidence {
+                    ln_evidence: z,
+                    ln_evidence_sd: 0.1,
+                    k_hat: 0.2,
+                    converged: true,
+                    laplace_ln_evidence: z,
+                    rounds: vec![],
+                    fe_points: 0,
+                    likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
+                };
+                Ok(ClassOdds { evidence, probability: f64::NAN })
+            });
+            CandidateResult { odds, ..CandidateResult::unassessed(cause, None) }
+        };
+        let mut r = vec![
+            with(Cause::None, Some(-10.0)),
+            with(Cause::PerimeterPounding, Some(-3.0)),
+            with(Cause::PerimeterFriction, None),
+        ];
+        assert_eq!(most_probable(&r), Some(1));
+        r[1].odds = Some(Err("every FE check failed".into()));
+        assert_eq!(most_probable(&r), Some(0), "a failed evidence does not count");
+        r[0].odds = None;
+        assert_eq!(most_probable(&r), None);
     }
 }

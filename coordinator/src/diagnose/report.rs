@@ -10,7 +10,9 @@ use super::cause::Cause;
 use super::damping_form::FORM_NATS;
 use super::evidence::Evidence;
 use super::fit::{pre_event_offset, Simulated, DAMPING_MASS_SHARE};
-use super::pipeline::{CandidateResult, Diagnosis, LINEAR_PART_NATS, MISFIT_NATS, TIE_NATS};
+use super::pipeline::{
+    CandidateResult, Diagnosis, VerdictRule, LINEAR_PART_NATS, MISFIT_NATS, TIE_NATS,
+};
 use super::report_evidence::evidence_section;
 use super::report_linear::linear_section;
 use super::report_posterior::posterior_section;
@@ -78,11 +80,22 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
         ("gain (1 − extended / baseline)".into(), num(d.gain)),
     ]));
     if let Some(c) = chosen {
+        let rule = match d.rule {
+            VerdictRule::Mdl => format!(
+                "scored by its minimum description length; {} is chosen ({:.1} nats). The lowest \
+                 MDL is chosen, where an extension must beat the baseline by {MISFIT_NATS} nats",
+                c.cause.as_str(),
+                c.mdl.as_ref().map_or(f64::NAN, |m| m.total),
+            ),
+            VerdictRule::Evidence => format!(
+                "scored by its evidence p(data | class) (section \"Model classes: evidence\"); \
+                 {} is chosen, the class of highest posterior probability under equal prior odds",
+                c.cause.as_str(),
+            ),
+        };
         blocks.push(Block::Paragraph(format!(
-            "Every candidate model was calibrated on the calibration runs and scored by its \
-             minimum description length; {} is chosen ({:.1} nats). The lowest MDL is chosen, \
-             where an extension must beat the baseline by {MISFIT_NATS} nats; the validation \
-             runs measure the verdict and never choose it. Validation errors are \
+            "Every candidate model was calibrated on the calibration runs and {rule}; the \
+             validation runs measure the verdict and never choose it. Validation errors are \
              the mean over the sensors of the validation runs of the normalised RMS error in \
              excess of the sensor noise, √max(MSE − σ², 0) / √(MS − σ²) (MSE of simulated − \
              measured, MS of measured), 0 for a model that misses by the noise alone, each \
@@ -90,8 +103,6 @@ fn verdict_section(b: &Bundle, d: &Diagnosis) -> Section {
              sensor's constant offset is fitted to each model's prediction (least squares) and \
              σ² per sensor is the nugget of the residual's variogram, the smallest over the \
              candidate models. Raw NRMSE (noise included): baseline {}, extended {}.",
-            c.cause.as_str(),
-            c.mdl.as_ref().map_or(f64::NAN, |m| m.total),
             num(d.candidates[0].validation_nrmse),
             num(c.validation_nrmse),
         )));

@@ -5,7 +5,7 @@
 
 use super::class_odds::ClassOdds;
 use super::likelihood::LikelihoodKind;
-use super::pipeline::Diagnosis;
+use super::pipeline::{Diagnosis, VerdictRule};
 use super::verdict::EVIDENCE_METHOD;
 use crate::report::{bar_chart, BarChart, BarGroup, Block, PlotSize, Section, Table};
 
@@ -38,9 +38,12 @@ pub fn evidence_section(d: &Diagnosis) -> Option<Section> {
     });
     let blocks = vec![
         Block::Paragraph(format!(
-            "{EVIDENCE_METHOD}. ln L: {}. Probabilities under equal prior odds. The verdict above \
-             does not use them yet.",
-            likelihood_words(&odds)
+            "{EVIDENCE_METHOD}. ln L: {}. Probabilities under equal prior odds. {}",
+            likelihood_words(&odds),
+            match d.rule {
+                VerdictRule::Evidence => "The verdict above is the most probable class.",
+                VerdictRule::Mdl => "The verdict above does not use them (the MDL rules name it).",
+            }
         )),
         Block::Table(Table {
             caption: "ln Z relative to the best class (nats); sd its standard error; k̂ the Pareto \

@@ -239,6 +239,7 @@ fn sdof_diagnosis(
         channels: None,
         linear: None,
         unexplained: None,
+        rule: super::pipeline::VerdictRule::Mdl,
     }
 }
 

@@ -5,7 +5,7 @@
 
 use super::evidence::{Evidence, Reading};
 use super::linear_stage::report::LinearJson;
-use super::pipeline::Diagnosis;
+use super::pipeline::{Diagnosis, VerdictRule};
 use serde::Serialize;
 
 /// Format string of the verdict.
@@ -245,6 +245,11 @@ pub struct VerdictJson {
     /// The cause named: a candidate's, or `unexplained` when the data show
     /// something no model explains ([`UnexplainedJson`]).
     pub cause: String,
+    /// The rule that named it when not the MDL's: `evidence` (the class of
+    /// highest posterior probability; an extra field, which the format
+    /// allows).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verdict_rule: Option<&'static str>,
     /// What no model explains (with `cause = "unexplained"`; an extra
     /// field, which the format allows).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -370,6 +375,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
         format: FORMAT.into(),
         bundle: d.bundle.clone(),
         cause: if d.unexplained.is_some() { UNEXPLAINED.into() } else { d.cause.as_str().into() },
+        verdict_rule: (d.rule != VerdictRule::Mdl).then_some(d.rule.as_str()),
         unexplained: d.unexplained.as_ref().map(|u| UnexplainedJson {
             model: d.cause.as_str().into(),
             validation_error: u.validation_error,
