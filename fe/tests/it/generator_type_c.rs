@@ -4,11 +4,9 @@
 //! counts, same first ten frequencies to 1e-6); at the Table 6.1 prior
 //! mid-points it reports its first six frequencies next to the measured ones.
 
-mod common;
-
 use std::path::Path;
 
-use common::verification_dir;
+use crate::common::verification_dir;
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{generate, CeilingSpec, ParamError, Parameters};
 

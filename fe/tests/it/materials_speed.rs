@@ -1,7 +1,7 @@
 //! Cost per committed step of the materials that run millions of times in
 //! transients (Gap, Impact, Steel01), through the concrete type and through
 //! `Box<dyn UniaxialMaterial>`. Ignored by default; run with
-//! `cargo test -p ceilfarm-fe --test materials_speed -- --ignored --nocapture`.
+//! `cargo test -p ceilfarm-fe --test it materials_speed:: -- --ignored --nocapture`.
 
 use std::time::Instant;
 

@@ -3,8 +3,7 @@
 //! one committed step per row, force within 1e-6 of the fixture's peak
 //! |force| on every row. Tangents are compared and reported too.
 
-mod common;
-use common::verification_dir;
+use crate::common::verification_dir;
 use std::path::Path;
 
 use fe::materials::driver::read_protocol_file;

@@ -10,11 +10,9 @@
 //! and a spring's recorded force is its material's, not its damping's. Half
 //! the share on each form matches OpenSees run with half of β on each.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 
-use common::csv_rows;
+use crate::common::csv_rows;
 use fe::materials::MaterialSpec;
 use fe::model::{read_model, Analysis, Model};
 use fe::transient::{run_model, History, TransientOptions};

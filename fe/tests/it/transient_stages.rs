@@ -9,9 +9,7 @@
 //! past it (here > 1 mm) while no gap spring ever carries force; pounding
 //! when a gap spring does.
 
-mod common;
-
-use common::verification_dir;
+use crate::common::verification_dir;
 use fe::model::{read_model, Analysis, Model};
 use fe::transient::{run_model, History, TransientOptions};
 use serde_json::{json, Value};

@@ -5,11 +5,9 @@
 //! connection's initial slope (CJS-A: 150 N at 0.5 mm = 300 N/mm), and a
 //! short transient of every variant.
 
-mod common;
-
 use std::path::Path;
 
-use common::{type_c_structure, verification_dir};
+use crate::common::{type_c_structure, verification_dir};
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{
     generate, parameters_for, CeilingSpec, Connections, GenerateError, ModelOptions, ParamError,

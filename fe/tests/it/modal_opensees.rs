@@ -4,9 +4,7 @@
 //! modes to 1e-6 of `perf_results.json`). The sparse Lanczos result is also
 //! checked against the dense condensed solver on the small grid.
 
-mod common;
-
-use common::{csv_rows, mac, verification_dir};
+use crate::common::{csv_rows, mac, verification_dir};
 use fe::assembly::Structure;
 use fe::eigen::{dense_eigen, modal_analysis, LanczosSettings};
 use fe::model::read_model;

@@ -10,9 +10,7 @@
 //! (`condense: false`); a condensed step solves the elastic springs, however
 //! stiff, in its one sparse factorization and has no such floor.
 
-mod common;
-
-use common::verification_dir;
+use crate::common::verification_dir;
 use fe::generator::{generate, CeilingSpec, Connections, ModelOptions, Parameters, Perimeter};
 use fe::materials::MaterialSpec;
 use fe::model::{Analysis, Damping, Model};

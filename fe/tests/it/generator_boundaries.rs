@@ -3,12 +3,10 @@
 //! stiffening order of the first in-plane mode (free < semi-free < fixed)
 //! and a short transient of each with friction and pounding.
 
-mod common;
-
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use common::{type_c_structure, verification_dir};
+use crate::common::{type_c_structure, verification_dir};
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{
     generate, Boundary, CeilingSpec, Connections, EndCondition, ModelOptions, Parameters,

@@ -6,9 +6,7 @@
 //! changes in dozens of springs every step, under the first 6 s of the
 //! verification sweep at 0.5 g (dt 0.005 s).
 
-mod common;
-
-use common::verification_dir;
+use crate::common::verification_dir;
 use fe::generator::{generate, CeilingSpec, Connections, ModelOptions, Parameters, Perimeter};
 use fe::model::{Analysis, Damping, Model};
 use fe::transient::{run_model, History, NewtonSettings, TransientOptions};

@@ -6,9 +6,7 @@
 //! peak of the same kind) must be as small in ours. At 0.5 g the closures of
 //! the x-wall gap springs are counted too.
 
-mod common;
-
-use common::{csv_rows, verification_dir};
+use crate::common::{csv_rows, verification_dir};
 use fe::model::{read_model, Analysis};
 use fe::transient::{run_model, History, TransientOptions};
 

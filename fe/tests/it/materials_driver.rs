@@ -1,7 +1,7 @@
 //! The `fe material` driver end to end on files: a shared fixture's material
 //! and protocol in, a response CSV out that matches the OpenSees fixture.
 
-mod common;
+use crate::common;
 use std::path::PathBuf;
 
 use fe::materials::driver::{run_files, DriverError};
