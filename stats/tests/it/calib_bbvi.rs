@@ -2,8 +2,7 @@
 //! full-rank reaches every exact posterior mean within 0.2 sd and every sd
 //! within 10 %, with the k–m correlation; mean-field is reported.
 
-mod calib_common;
-use calib_common::*;
+use crate::calib_common::*;
 use stats::bbvi::{Bbvi, BbviFit, BbviSettings, FamilyKind};
 use stats::calibration::{Likelihood, LogDensity, Posterior, PosteriorSummary};
 

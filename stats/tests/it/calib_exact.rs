@@ -1,8 +1,7 @@
 //! The grid quadrature used as ground truth reproduces the benchmark's
 //! exact posteriors (shared benchmarks README §3).
 
-mod calib_common;
-use calib_common::*;
+use crate::calib_common::*;
 
 fn check(label: &str, e: &Exact, mean: [f64; 3], sd: [f64; 3]) {
     println!(

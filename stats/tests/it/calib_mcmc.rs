@@ -2,8 +2,7 @@
 //! adaptive Metropolis, 4 chains from the prior centre, agrees with the exact
 //! posteriors with split R-hat < 1.01; PSIS k-hat of the BBVI fits.
 
-mod calib_common;
-use calib_common::*;
+use crate::calib_common::*;
 use stats::bbvi::{Bbvi, BbviSettings, FamilyKind};
 use stats::calibration::{Likelihood, LogDensity, Posterior, PosteriorSummary};
 use stats::mcmc::{psis, AdaptiveMetropolis, McmcSettings};

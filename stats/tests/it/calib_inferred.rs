@@ -7,8 +7,7 @@
 //! sds; when it does (by more than 10 %), PSIS k-hat must flag it (> 0.7).
 //! Measured: k sd 0.064 vs 0.095, k-hat 0.79.
 
-mod calib_common;
-use calib_common::*;
+use crate::calib_common::*;
 use stats::bbvi::{BbviSettings, FamilyKind};
 use stats::calibration::{
     calibrate, Hyper, KohLikelihood, KohSettings, Method, Posterior, RunSettings, UniformBox,

@@ -4,8 +4,7 @@
 //! benchmarks §3). Error: KL(fit ‖ exact) between Gaussians with the fit's
 //! and the exact (grid quadrature) moments in physical units.
 
-mod calib_common;
-use calib_common::*;
+use crate::calib_common::*;
 use nalgebra::{DMatrix, DVector};
 use stats::bbvi::{Bbvi, BbviSettings, FamilyKind};
 use stats::calibration::{Likelihood, Posterior};

@@ -3,8 +3,7 @@
 //! (k 1.5, c 0.4, m 1.0), (k, c) with m = 1 wins under BIC and MDL; ln ∫ sqrt(det I1) for
 //! (k, c, m) and (k, c) within 2 % of 10.006 and 7.464.
 
-mod calib_common;
-use calib_common::*;
+use crate::calib_common::*;
 use stats::selection::{select, Candidate, SelectionProblem, SelectionSettings};
 use std::collections::BTreeMap;
 

@@ -2,7 +2,7 @@
 //! (../shared/benchmarks/README.md §1). Thresholds are scikit-learn's
 //! reference numbers. The borehole test runs in about 25 s in the dev
 //! profile; the modal13 one (five fits) is slow there: run it with
-//! `cargo test --release -p ceilfarm-stats --test gp_benchmarks -- --ignored`.
+//! `cargo test --release -p ceilfarm-stats --test it gp_benchmarks:: -- --ignored`.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -10,7 +10,7 @@ use stats::gp::{fit, GpSettings, InputScaling, KernelKind};
 use stats::sobol::functions;
 use stats::validation::validate;
 
-mod calib_common;
+use crate::calib_common;
 
 fn read_csv(file: &str) -> Vec<Vec<f64>> {
     let path = calib_common::benchmarks_dir().join(file);
