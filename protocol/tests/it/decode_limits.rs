@@ -1,29 +1,46 @@
 //! Decoding a forged message allocates no more than the message could
 //! justify: the largest single allocation made while decoding is measured
-//! by a counting global allocator (its own test binary, so no other test's
-//! allocations are counted).
+//! by a counting global allocator. It counts only the allocations of the
+//! thread that is measuring, so the other tests of this binary, running on
+//! their own threads (zenoh's included), are not counted.
 
 use protocol::codec::{decode, CodecError};
 use protocol::{FromWorker, PROTOCOL_VERSION};
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
-/// The system allocator, remembering the largest request since reset.
+/// The system allocator, remembering the largest request made by a thread
+/// while that thread measures.
 struct Largest;
 
-static LARGEST: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// The largest request since this thread started measuring, or `None`
+    /// when it is not measuring. Const-initialised without a destructor,
+    /// so reading it never allocates.
+    static LARGEST: Cell<Option<usize>> = const { Cell::new(None) };
+}
+
+/// Notes a request of `size` bytes if this thread is measuring.
+fn note(size: usize) {
+    // try_with: a thread being torn down has no slot left, and counts nothing.
+    let _ = LARGEST.try_with(|l| {
+        if let Some(m) = l.get() {
+            l.set(Some(m.max(size)));
+        }
+    });
+}
 
 unsafe impl GlobalAlloc for Largest {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        LARGEST.fetch_max(layout.size(), Ordering::SeqCst);
+        note(layout.size());
         unsafe { System.alloc(layout) }
     }
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        LARGEST.fetch_max(layout.size(), Ordering::SeqCst);
+        note(layout.size());
         unsafe { System.alloc_zeroed(layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        LARGEST.fetch_max(new_size, Ordering::SeqCst);
+        note(new_size);
         unsafe { System.realloc(ptr, layout, new_size) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
@@ -34,11 +51,11 @@ unsafe impl GlobalAlloc for Largest {
 #[global_allocator]
 static ALLOC: Largest = Largest;
 
-/// Largest single allocation (bytes) made by `f`.
+/// Largest single allocation (bytes) made by `f` on this thread.
 fn largest_allocation(f: impl FnOnce()) -> usize {
-    LARGEST.store(0, Ordering::SeqCst);
+    LARGEST.with(|l| l.set(Some(0)));
     f();
-    LARGEST.load(Ordering::SeqCst)
+    LARGEST.with(|l| l.take()).expect("measuring")
 }
 
 /// Regression (issue 56): version, Hello, proto 2, a name claiming 1 GiB
