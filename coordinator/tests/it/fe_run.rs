@@ -2,8 +2,7 @@
 //! within 1e-6 of OpenSees, mode shapes with MAC > 0.9999, `--modes`
 //! override, and a clear error for an invalid file.
 
-mod common;
-use common::*;
+use crate::common::*;
 
 use std::path::{Path, PathBuf};
 

@@ -2,8 +2,7 @@
 //! (n = 200) and predict at fresh points computed from the formula; the
 //! model file is self-describing and predictions carry sds.
 
-mod common;
-use common::{ceilfarm, ceilfarm_ok, s, shared};
+use crate::common::{ceilfarm, ceilfarm_ok, s, shared};
 use std::f64::consts::PI;
 
 fn borehole(x: &[f64]) -> f64 {

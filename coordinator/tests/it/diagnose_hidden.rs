@@ -12,7 +12,7 @@ use coordinator::synth::synth_to_dir;
 /// double-layer ceiling whose carrying channels weigh that (kg/m) and tie
 /// the main tees by that fraction of the seed's section.
 fn campaign(effect: &str, seed: u64, channels: Option<(f64, f64)>) -> String {
-    let text = include_str!("../configs/synth/demo.toml");
+    let text = include_str!("../../../configs/synth/demo.toml");
     let mut out = String::new();
     for line in text.lines() {
         let line = if line.starts_with("seed =") {

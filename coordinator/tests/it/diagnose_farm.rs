@@ -4,8 +4,7 @@
 //! diagnosis killed with SIGKILL then run again runs only the run
 //! simulations its store lacks and writes the same diagnosis.json.
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};

@@ -6,8 +6,7 @@
 //! parameters than frequencies are reported as not identifiable, and a
 //! rerun resumes the sweep (no new runs) and gives the same posterior.
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::path::Path;
 
 /// The shipped config with a smaller budget, its specimens copied beside it

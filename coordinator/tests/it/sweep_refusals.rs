@@ -1,8 +1,7 @@
 //! Refusals: resuming with a changed study names the key; damaged stores are
 //! detected and named; existing stores are not overwritten.
 
-mod common;
-use common::*;
+use crate::common::*;
 
 fn run_and_fail(args: &[&str]) -> String {
     let out = ceilfarm(args);

@@ -4,8 +4,7 @@
 //! worker killed with SIGKILL and a coordinator killed and resumed.
 #![cfg(any(feature = "zenoh", feature = "iceoryx2"))]
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU16, Ordering};

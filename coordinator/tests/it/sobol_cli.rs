@@ -1,8 +1,8 @@
 //! `ceilfarm sobol --function ... --json`: indices of Ishigami and the G
 //! function against the exact values of the benchmark README.
 
-mod common;
-use common::ceilfarm_ok;
+use crate::common;
+use crate::common::ceilfarm_ok;
 
 fn indices(function: &str, n: &str) -> serde_json::Value {
     let out = ceilfarm_ok(&["sobol", "--function", function, "--n", n, "--seed", "1", "--json"]);

@@ -3,8 +3,7 @@
 //! alone (the modes use the initial stiffness; damping does not move them)
 //! and one stored history per sensor whose peak is the row's `peak_<id>`.
 
-mod common;
-use common::*;
+use crate::common::*;
 
 const SENSORS: [(&str, &str); 3] = [
     ("A_centre", "A_centre_accel_m_s2"),

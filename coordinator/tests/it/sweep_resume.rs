@@ -2,8 +2,7 @@
 //! each time with another worker count exports exactly the same bytes as an
 //! uninterrupted sweep.
 
-mod common;
-use common::*;
+use crate::common::*;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 

@@ -2,8 +2,7 @@
 //! its export holds 200 rows whose `y` is the borehole formula
 //! (Morris, Mitchell & Ylvisaker 1993) to 1e-12 relative.
 
-mod common;
-use common::*;
+use crate::common::*;
 
 fn borehole(x: &[f64]) -> f64 {
     let (rw, r, tu, hu, tl, hl, l, kw) = (x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);

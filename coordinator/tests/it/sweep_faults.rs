@@ -1,8 +1,7 @@
 //! A task that panics, errors or hangs past its timeout is recorded as a
 //! failure with its reason, and the sweep completes.
 
-mod common;
-use common::*;
+use crate::common::*;
 
 const STUDY: &str = r#"
 [study]
