@@ -196,7 +196,7 @@ mod tests {
     }
 
     /// Regression (issue 56): a 13-byte Hello whose name claims 1 GiB made
-    /// the coordinator allocate 1.3 GB (tests/decode_limits.rs measures the
+    /// the coordinator allocate 1.3 GB (tests/it/decode_limits.rs measures the
     /// allocation).
     #[test]
     fn a_name_longer_than_its_message_is_refused() {
