@@ -1,0 +1,6 @@
+//! The coordinator's integration tests, one module per subject.
+
+#[cfg(feature = "zenoh")]
+mod security_attacks;
+#[cfg(feature = "zenoh")]
+mod security_sigterm;
