@@ -5,8 +5,10 @@
 
 use super::*;
 use protocol::membership::Members;
+use protocol::seal::{Direction, SweepKey, SweepMac};
 use protocol::task_reply::{Reply, ReplyGate};
-use protocol::{codec, FromWorker, Outputs, TransportError};
+use protocol::{FromWorker, Outputs, TransportError};
+use std::sync::Arc;
 
 /// One reply a scripted worker sends to a task query.
 #[derive(Debug, Clone)]
@@ -19,6 +21,8 @@ enum Wire {
     ModelFailure(&'static str),
     /// An error reply with this text.
     Error(&'static str),
+    /// A hand-back with this reason.
+    HandBack(&'static str),
     /// Bytes that decode to nothing.
     Junk,
     /// This reply, sent on the same query when the worker gets its next task.
@@ -34,6 +38,7 @@ struct FakeNet {
     tokens_without_hello: usize,
     events: VecDeque<TransportEvent>,
     gates: Vec<ReplyGate>,
+    mac: Arc<SweepMac>,
     stale: HashMap<WorkerId, Vec<(usize, Wire)>>,
     sends: Vec<(WorkerId, TaskId)>,
     idle_polls: u32,
@@ -52,6 +57,7 @@ impl FakeNet {
             tokens_without_hello: 0,
             events: VecDeque::new(),
             gates: Vec::new(),
+            mac: Arc::new(SweepMac::new(SweepKey::random(), "fake")),
             stale: HashMap::new(),
             sends: Vec::new(),
             idle_polls: 0,
@@ -70,16 +76,18 @@ impl FakeNet {
     }
 
     fn deliver(&mut self, gate: usize, wire: Wire, task: TaskId) {
+        let (mac, seq) = (self.mac.clone(), self.gates[gate].seq());
+        let seal = |msg: FromWorker| mac.seal(Direction::FromWorker, seq, &msg).unwrap();
         let bytes = |outcome| {
             let r = TaskResult { id: task, outcome, wall_s: 0.01, host: "h".into() };
-            codec::encode(&FromWorker::Result(r)).unwrap()
+            seal(FromWorker::Result(r))
         };
         let ok = |y| Outcome::Ok(Outputs { scalars: vec![("y".into(), y)], histories: vec![] });
         let event = match wire {
             Wire::Value(y) => self.gates[gate].on_reply(Reply::Answer(&bytes(ok(y)))),
             Wire::WallTime(wall_s) => {
                 let r = TaskResult { id: task, outcome: ok(1.0), wall_s, host: "h".into() };
-                let b = codec::encode(&FromWorker::Result(r)).unwrap();
+                let b = seal(FromWorker::Result(r));
                 self.gates[gate].on_reply(Reply::Answer(&b))
             }
             Wire::ModelFailure(why) => {
@@ -87,6 +95,10 @@ impl FakeNet {
                 self.gates[gate].on_reply(Reply::Answer(&b))
             }
             Wire::Error(text) => self.gates[gate].on_reply(Reply::Error(text.as_bytes())),
+            Wire::HandBack(why) => {
+                let b = seal(FromWorker::HandBack { id: task, reason: why.into() });
+                self.gates[gate].on_reply(Reply::Answer(&b))
+            }
             Wire::Junk => self.gates[gate].on_reply(Reply::Answer(b"\x07junk")),
             Wire::Later(_) => unreachable!("held back by the caller"),
         };
@@ -120,7 +132,8 @@ impl Transport for FakeNet {
             self.deliver(gate, wire, task);
         }
         let gate = self.gates.len();
-        self.gates.push(ReplyGate::new(worker, task.id));
+        let seq = gate as u64 + 1;
+        self.gates.push(ReplyGate::new(worker, task.id, seq, self.mac.clone()));
         let script = self.scripts.iter_mut().find(|(n, _, _)| *n == name).expect("scripted");
         let mut held = false;
         for wire in (script.2)(&task) {
@@ -323,7 +336,8 @@ fn foreign_late_and_duplicate_results_are_dropped() {
     assert_eq!(f.summary.duplicates, 5);
 }
 
-// Rule 2: an error reply fails that attempt, never the worker.
+// Rule 2: an error reply (which carries no MAC, so never counts) fails
+// that attempt when nothing valid came, never the worker.
 
 #[test]
 fn one_error_reply_fails_one_attempt_and_the_sweep_completes() {
@@ -359,7 +373,7 @@ fn error_replies_past_the_retry_limit_record_the_failure_with_its_reason() {
 
 #[test]
 fn a_worker_handing_everything_back_costs_each_task_a_bounded_number_of_sends() {
-    let mut net = FakeNet::new().worker("w", 1, |_| vec![Wire::Error("hand-back: stopping")]);
+    let mut net = FakeNet::new().worker("w", 1, |_| vec![Wire::HandBack("stopping")]);
     let (summary, kept) = run(&mut net, 5).unwrap();
     assert_eq!((summary.ok, summary.failed), (0, 5));
     assert!(kept.reason(0).unwrap().contains("handed"), "{:?}", kept.reason(0));
@@ -372,7 +386,7 @@ fn an_honest_hand_back_costs_no_try() {
     let mut once = true;
     let mut net = FakeNet::new().worker("w", 1, move |t| {
         if std::mem::take(&mut once) {
-            vec![Wire::Error("hand-back: worker stopping")]
+            vec![Wire::HandBack("worker stopping")]
         } else {
             honest(t)
         }

@@ -34,6 +34,9 @@ enum Command {
     Store(commands::store::StoreCommand),
     /// Serve sweeps as a worker process (iceoryx2 or zenoh transport).
     Worker(commands::worker::WorkerArgs),
+    /// Farm set-up across machines: the lab's certificates and zenoh configurations.
+    #[command(subcommand)]
+    Farm(commands::farm::FarmCommand),
     /// Measured-data bundles: check one.
     #[command(subcommand)]
     Bundle(commands::bundle::BundleCommand),
@@ -83,6 +86,7 @@ fn main() -> std::process::ExitCode {
         Command::Bundle(c) => commands::bundle::run(c),
         Command::Fe(c) => commands::fe::run(c),
         Command::Worker(a) => commands::worker::run(a),
+        Command::Farm(c) => commands::farm::run(c),
         Command::Calibrate(a) => commands::calibrate::run(a),
         Command::Pipeline(a) => commands::pipeline::run(a),
         Command::Select(a) => commands::select::run(a),

@@ -47,6 +47,8 @@ pub struct SweepOptions {
     pub transport: Option<crate::study::TransportKind>,
     /// Transport endpoint (overrides the study).
     pub endpoint: Option<String>,
+    /// zenoh's security: configuration file and `--insecure`.
+    pub zenoh: crate::transports::ZenohSecurity,
 }
 
 /// What a sweep did.
@@ -127,7 +129,8 @@ pub fn run_sweep(study: &Study, opts: &SweepOptions) -> Result<SweepReport, Swee
     let workers = opts.workers.unwrap_or(study.farm.workers).max(1);
     let kind = opts.transport.unwrap_or(study.farm.transport);
     let endpoint = opts.endpoint.as_deref().or(study.farm.endpoint.as_deref());
-    let transport = crate::transports::coordinator_transport(kind, workers, endpoint)?;
+    let transport =
+        crate::transports::coordinator_transport_secured(kind, workers, endpoint, &opts.zenoh)?;
     run_sweep_on(study, opts, transport, workers)
 }
 

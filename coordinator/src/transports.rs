@@ -5,8 +5,23 @@ use crate::study::TransportKind;
 use protocol::in_process::InProcess;
 use protocol::Transport;
 
-/// Default zenoh endpoint of a coordinator.
-pub const DEFAULT_ZENOH_ENDPOINT: &str = "tcp/127.0.0.1:7447";
+/// How a zenoh session is secured: a zenoh JSON5 configuration file (TLS,
+/// mutual authentication, access control) and whether listening beyond
+/// loopback without them is allowed.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ZenohSecurity {
+    /// `--zenoh-config FILE`.
+    pub config: Option<std::path::PathBuf>,
+    /// `--insecure`.
+    pub insecure: bool,
+}
+
+#[cfg(feature = "zenoh")]
+impl From<&ZenohSecurity> for protocol::zenoh_config::ZenohSecurity {
+    fn from(s: &ZenohSecurity) -> Self {
+        Self { config: s.config.clone(), insecure: s.insecure }
+    }
+}
 
 /// Why a transport cannot be made.
 #[derive(Debug, thiserror::Error)]
@@ -14,23 +29,39 @@ pub enum TransportChoiceError {
     /// This binary was built without the transport's feature.
     #[error("transport {0} is not built into this binary (cargo feature `{0}`)")]
     NotBuilt(&'static str),
+    /// The transport's configuration is refused.
+    #[error(transparent)]
+    Setup(#[from] protocol::TransportError),
 }
 
-/// Builds the coordinator's end of the chosen transport.
+/// Builds the coordinator's end of the chosen transport, zenoh with no
+/// configuration file (listening on loopback only, unless the endpoint is
+/// refused when the transport starts).
 pub fn coordinator_transport(
     kind: TransportKind,
     workers: usize,
     endpoint: Option<&str>,
 ) -> Result<Box<dyn Transport>, TransportChoiceError> {
-    let _ = endpoint; // unused when neither remote transport is built
+    coordinator_transport_secured(kind, workers, endpoint, &ZenohSecurity::default())
+}
+
+/// Builds the coordinator's end of the chosen transport; zenoh under `security`.
+pub fn coordinator_transport_secured(
+    kind: TransportKind,
+    workers: usize,
+    endpoint: Option<&str>,
+    security: &ZenohSecurity,
+) -> Result<Box<dyn Transport>, TransportChoiceError> {
+    let _ = (endpoint, security); // unused when neither remote transport is built
     match kind {
         TransportKind::InProcess => {
             Ok(Box::new(InProcess::new(workers, worker::LocalRunner::factory())))
         }
         #[cfg(feature = "zenoh")]
         TransportKind::Zenoh => Ok(Box::new(protocol::zenoh_transport::ZenohCoordinator::new(
-            endpoint.unwrap_or(DEFAULT_ZENOH_ENDPOINT),
-        ))),
+            endpoint,
+            &security.into(),
+        )?)),
         #[cfg(not(feature = "zenoh"))]
         TransportKind::Zenoh => Err(TransportChoiceError::NotBuilt("zenoh")),
         #[cfg(feature = "iceoryx2")]
@@ -42,19 +73,21 @@ pub fn coordinator_transport(
     }
 }
 
-/// Builds the worker's end of the chosen transport.
+/// Builds the worker's end of the chosen transport; zenoh under `security`.
 pub fn worker_link(
     kind: TransportKind,
     endpoint: Option<&str>,
+    security: &ZenohSecurity,
 ) -> Result<Box<dyn protocol::link::WorkerLink>, anyhow::Error> {
-    let _ = endpoint;
+    let _ = (endpoint, security);
     match kind {
         TransportKind::InProcess => {
             anyhow::bail!("in-process workers run inside `ceilfarm run`; choose zenoh or iceoryx2")
         }
         #[cfg(feature = "zenoh")]
         TransportKind::Zenoh => Ok(Box::new(protocol::zenoh_transport::ZenohWorker::connect(
-            endpoint.unwrap_or(DEFAULT_ZENOH_ENDPOINT),
+            endpoint,
+            &security.into(),
         )?)),
         #[cfg(not(feature = "zenoh"))]
         TransportKind::Zenoh => Err(TransportChoiceError::NotBuilt("zenoh").into()),

@@ -59,6 +59,15 @@ pub enum CodecError {
     /// The bytes after the header are not a valid message.
     #[error("malformed message: {0}")]
     Malformed(String),
+    /// A sealed frame shorter than its sequence number and tag.
+    #[error("message of {len} bytes is too short for a sealed message (sequence number and MAC)")]
+    Unsealed {
+        /// Length received.
+        len: usize,
+    },
+    /// The MAC does not match: forged, altered, or of another sweep or direction.
+    #[error("message authentication failed: the MAC does not match this sweep's key")]
+    BadMac,
     /// Bytes left over after the message.
     #[error("{extra} trailing bytes after the message")]
     Trailing {

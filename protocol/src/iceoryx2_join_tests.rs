@@ -44,9 +44,12 @@ fn a_welcome_of_a_coordinator_that_is_gone_is_not_joined() {
     let n = node(&coordinator_node_name(&sweep)).unwrap();
     let wf = channel(&n, &format!("{root}/welcome"), 1, 1, 1, true, MAX_WORKERS).unwrap();
     let welcome = publisher(&wf).unwrap();
-    let msg =
-        codec::encode(&ToWorker::Welcome { study_hash: HASH.into(), model: ModelSpec::noop() })
-            .unwrap();
+    let msg = codec::encode(&ToWorker::Welcome {
+        study_hash: HASH.into(),
+        model: ModelSpec::noop(),
+        key: crate::seal::SweepKey::random(),
+    })
+    .unwrap();
     let dead = n.id().value() ^ 1;
     send(&welcome, &frame_welcome(&sweep, dead, &msg)).unwrap();
     let mut w = IceoryxWorker::new(Some(&root)).unwrap();

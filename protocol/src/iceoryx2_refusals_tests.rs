@@ -128,9 +128,12 @@ fn a_worker_refuses_a_coordinator_of_another_version_and_says_so() {
     let n = node(&coordinator_node_name(&sweep)).unwrap();
     let wf = channel(&n, &format!("{root}/welcome"), 1, 1, 1, true, MAX_WORKERS).unwrap();
     let welcome = publisher(&wf).unwrap();
-    let mut msg =
-        codec::encode(&ToWorker::Welcome { study_hash: HASH.into(), model: ModelSpec::noop() })
-            .unwrap();
+    let mut msg = codec::encode(&ToWorker::Welcome {
+        study_hash: HASH.into(),
+        model: ModelSpec::noop(),
+        key: crate::seal::SweepKey::random(),
+    })
+    .unwrap();
     msg[..2].copy_from_slice(&9999u16.to_le_bytes());
     send(&welcome, &frame_welcome(&sweep, n.id().value(), &msg)).unwrap();
     let rf =

@@ -25,6 +25,7 @@
 
 use crate::codec;
 use crate::link::{study_refusal, JoinRequest, Joined, LinkEvent, Ticket, WorkerLink};
+use crate::seal::{Direction, SweepKey, SweepMac};
 use crate::transport::{Transport, TransportError, TransportEvent, WorkerId};
 use crate::{FromWorker, ModelSpec, Task, TaskId, TaskResult, ToWorker, PROTOCOL_VERSION};
 use iceoryx2::node::NodeView;
@@ -277,6 +278,10 @@ pub struct IceoryxCoordinator {
     next_id: u64,
     last_liveness: Instant,
     pending: std::collections::VecDeque<TransportEvent>,
+    mac: Option<SweepMac>,
+    next_seq: u64,
+    /// Tasks sent and not answered, by lease sequence number.
+    leases: HashMap<u64, (WorkerId, TaskId)>,
 }
 
 impl IceoryxCoordinator {
@@ -296,18 +301,38 @@ impl IceoryxCoordinator {
             next_id: 0,
             last_liveness: Instant::now(),
             pending: Default::default(),
+            mac: None,
+            next_seq: 1,
+            leases: HashMap::new(),
         }
     }
 
+    /// Whether lease `seq` is `task` held by `worker`; consumes it if so.
+    fn take_lease(&mut self, seq: u64, worker: WorkerId, task: TaskId) -> bool {
+        let held = self.leases.get(&seq) == Some(&(worker, task));
+        if held {
+            self.leases.remove(&seq);
+        }
+        held
+    }
+
+    fn forget_leases(&mut self, worker: WorkerId) {
+        self.leases.retain(|_, (w, _)| *w != worker);
+    }
+
     fn on_message(&mut self, bytes: &[u8]) -> Result<(), TransportError> {
-        let Envelope { from, node, msg } = match codec::decode::<Envelope>(bytes) {
-            Ok(e) => e,
-            Err(e) => {
-                let reason = format!("message on the result channel: {e}");
-                self.pending.push_back(TransportEvent::Rejected { reason });
-                return Ok(());
-            }
+        let Some(mac) = &self.mac else {
+            return Err(TransportError::Closed("not started".into()));
         };
+        let (seq, Envelope { from, node, msg }) =
+            match mac.open::<Envelope>(Direction::FromWorker, bytes) {
+                Ok(e) => e,
+                Err(e) => {
+                    let reason = format!("message on the result channel: {e}");
+                    self.pending.push_back(TransportEvent::Rejected { reason });
+                    return Ok(());
+                }
+            };
         let worker = self.by_name.get(&from).copied();
         match (msg, worker) {
             (FromWorker::Hello { threads, study, .. }, _) => {
@@ -319,13 +344,20 @@ impl IceoryxCoordinator {
                     }
                 }
             }
-            (FromWorker::Result(result), Some(worker)) => {
+            (FromWorker::Result(result), Some(worker))
+                if self.take_lease(seq, worker, result.id) =>
+            {
                 self.pending.push_back(TransportEvent::Result { worker, result })
             }
-            (FromWorker::HandBack { id, .. }, Some(worker)) => {
+            (FromWorker::HandBack { id, .. }, Some(worker)) if self.take_lease(seq, worker, id) => {
                 self.pending.push_back(TransportEvent::HandedBack { worker, task: id })
             }
+            (FromWorker::Result(_) | FromWorker::HandBack { .. }, Some(worker)) => {
+                let reason = format!("{worker}: an answer for lease {seq} it does not hold (replayed or foreign); dropped");
+                self.pending.push_back(TransportEvent::Rejected { reason });
+            }
             (FromWorker::Goodbye, Some(worker)) => {
+                self.forget_leases(worker);
                 self.workers.remove(&worker);
                 self.by_name.remove(&from);
                 self.pending.push_back(TransportEvent::Left {
@@ -386,6 +418,7 @@ impl IceoryxCoordinator {
             .map(|(id, w)| (*id, w.name.clone()))
             .collect();
         for (id, name) in gone {
+            self.forget_leases(id);
             self.workers.remove(&id);
             self.by_name.remove(&name);
             self.pending.push_back(TransportEvent::Left {
@@ -428,11 +461,14 @@ impl Transport for IceoryxCoordinator {
         let welcome_factory =
             channel(&node, &format!("{}/welcome", self.root), 1, 1, 1, true, MAX_WORKERS)?;
         let welcome = publisher(&welcome_factory)?;
+        let mac = SweepMac::new(SweepKey::random(), study_hash);
         let bytes = codec::encode(&ToWorker::Welcome {
             study_hash: study_hash.to_string(),
             model: model.clone(),
+            key: mac.key().clone(),
         })
         .map_err(|e| TransportError::Setup(e.to_string()))?;
+        self.mac = Some(mac);
         let bytes = frame_welcome(&self.sweep, node.id().value(), &bytes);
         send(&welcome, &bytes)?;
         self.welcome_bytes = bytes;
@@ -443,9 +479,15 @@ impl Transport for IceoryxCoordinator {
 
     fn send(&mut self, worker: WorkerId, task: Task) -> Result<(), TransportError> {
         let w = self.workers.get(&worker).ok_or(TransportError::UnknownWorker(worker))?;
-        let bytes = codec::encode(&ToWorker::Task(task))
+        let mac = self.mac.as_ref().ok_or_else(|| TransportError::Closed("not started".into()))?;
+        let seq = self.next_seq;
+        let id = task.id;
+        let bytes = mac
+            .seal(Direction::ToWorker, seq, &ToWorker::Task(task))
             .map_err(|e| TransportError::Setup(e.to_string()))?;
         send(&w.tasks, &bytes)?;
+        self.next_seq += 1;
+        self.leases.insert(seq, (worker, id));
         let _ = w.wake.notify();
         Ok(())
     }
@@ -483,6 +525,7 @@ impl Transport for IceoryxCoordinator {
     }
 
     fn abandon(&mut self, worker: WorkerId, _reason: &str) {
+        self.forget_leases(worker);
         if let Some(w) = self.workers.remove(&worker) {
             self.by_name.remove(&w.name);
         }
@@ -509,6 +552,7 @@ pub struct IceoryxWorker {
     results: Option<Arc<Mutex<ResultPort>>>,
     coordinator: Option<u128>,
     last_liveness: Instant,
+    mac: Option<SweepMac>,
 }
 
 /// A worker's way back: the shared result channel and its wake-up, usable
@@ -519,15 +563,19 @@ struct ResultPort {
     publisher: Pub,
     wake: Ntf,
     _keep: (Keep, Keep),
+    /// The sweep's sealer; `None` only for a refused worker's last Hello.
+    mac: Option<SweepMac>,
 }
 
 impl ResultPort {
-    fn publish(&self, msg: FromWorker) -> Result<(), TransportError> {
+    /// Publishes `msg`, sealed for lease `seq` (0: not about a task).
+    fn publish(&self, seq: u64, msg: FromWorker) -> Result<(), TransportError> {
         let env = Envelope { from: self.from.clone(), node: self.node, msg };
-        send(
-            &self.publisher,
-            &codec::encode(&env).map_err(|e| TransportError::Setup(e.to_string()))?,
-        )?;
+        let bytes = match &self.mac {
+            Some(mac) => mac.seal(Direction::FromWorker, seq, &env),
+            None => codec::encode(&env),
+        };
+        send(&self.publisher, &bytes.map_err(|e| TransportError::Setup(e.to_string()))?)?;
         let _ = self.wake.notify();
         Ok(())
     }
@@ -548,6 +596,7 @@ impl IceoryxWorker {
             results: None,
             coordinator: None,
             last_liveness: Instant::now(),
+            mac: None,
         })
     }
 
@@ -610,7 +659,9 @@ impl IceoryxWorker {
         )?;
         let publisher = publisher(&rf)?;
         let (wake, keep) = notifier(node, &format!("{root}/{sweep}/result-ready"), MAX_WORKERS)?;
-        let port = ResultPort { from, node: node_id, publisher, wake, _keep: (Box::new(rf), keep) };
+        let mac = self.mac.clone();
+        let port =
+            ResultPort { from, node: node_id, publisher, wake, _keep: (Box::new(rf), keep), mac };
         self.results = Some(Arc::new(Mutex::new(port)));
         Ok(())
     }
@@ -625,10 +676,12 @@ impl IceoryxWorker {
         Ok(())
     }
 
-    fn publish(&self, msg: FromWorker) -> Result<(), TransportError> {
+    fn publish(&self, seq: u64, msg: FromWorker) -> Result<(), TransportError> {
         let port =
             self.results.as_ref().ok_or_else(|| TransportError::Closed("not joined".into()))?;
-        port.lock().map_err(|_| TransportError::Closed("result port poisoned".into()))?.publish(msg)
+        let port =
+            port.lock().map_err(|_| TransportError::Closed("result port poisoned".into()))?;
+        port.publish(seq, msg)
     }
 }
 
@@ -656,9 +709,16 @@ impl WorkerLink for IceoryxWorker {
         }
         self.coordinator = Some(coordinator);
         self.sweep = sweep;
+        let welcome = codec::decode::<ToWorker>(message);
+        self.mac = match &welcome {
+            Ok(ToWorker::Welcome { study_hash, key, .. }) => {
+                Some(SweepMac::new(key.clone(), study_hash))
+            }
+            _ => None,
+        };
         self.open_results()?;
-        let refusal = match codec::decode::<ToWorker>(message) {
-            Ok(ToWorker::Welcome { study_hash, model }) => {
+        let refusal = match welcome {
+            Ok(ToWorker::Welcome { study_hash, model, .. }) => {
                 match study_refusal(request.study.as_deref(), &study_hash) {
                     None => {
                         self.open_tasks()?;
@@ -672,7 +732,7 @@ impl WorkerLink for IceoryxWorker {
         };
         // Announce ourselves anyway, so that the coordinator logs the refusal too.
         // Samples go with their publisher: give the coordinator time to read it.
-        let _ = self.publish(self.hello(request));
+        let _ = self.publish(0, self.hello(request));
         std::thread::sleep(REFUSAL_LINGER);
         self.results = None;
         Err(TransportError::Setup(format!("coordinator refused this worker: {refusal}")))
@@ -680,12 +740,15 @@ impl WorkerLink for IceoryxWorker {
 
     fn serve(&mut self) -> Result<(), TransportError> {
         // The task subscriber exists: announce ourselves.
-        self.publish(FromWorker::Hello {
-            proto: PROTOCOL_VERSION,
-            name: self.name.clone(),
-            threads: self.threads,
-            study: None,
-        })
+        self.publish(
+            0,
+            FromWorker::Hello {
+                proto: PROTOCOL_VERSION,
+                name: self.name.clone(),
+                threads: self.threads,
+                study: None,
+            },
+        )
     }
 
     fn next(&mut self, timeout: Duration) -> Result<LinkEvent, TransportError> {
@@ -694,13 +757,15 @@ impl WorkerLink for IceoryxWorker {
             let (sub, wake, _, _) =
                 self.tasks.as_ref().ok_or_else(|| TransportError::Closed("not serving".into()))?;
             if let Some(bytes) = receive(sub)? {
-                match codec::decode::<ToWorker>(&bytes) {
-                    Ok(ToWorker::Task(task)) => {
-                        let id = task.id;
-                        return Ok(LinkEvent::Task(Ticket { task, route: Box::new(id) }));
+                let mac =
+                    self.mac.as_ref().ok_or_else(|| TransportError::Closed("not joined".into()))?;
+                match mac.open::<ToWorker>(Direction::ToWorker, &bytes) {
+                    Ok((seq, ToWorker::Task(task))) => {
+                        let route = Box::new((task.id, seq));
+                        return Ok(LinkEvent::Task(Ticket { task, route }));
                     }
                     Ok(_) => {}
-                    Err(e) => tracing::warn!(error = %e, "dropped a malformed task message"),
+                    Err(e) => tracing::warn!(error = %e, "dropped a task message"),
                 }
                 continue;
             }
@@ -723,31 +788,41 @@ impl WorkerLink for IceoryxWorker {
 
     fn reply(
         &mut self,
-        _route: Box<dyn std::any::Any + Send>,
+        route: Box<dyn std::any::Any + Send>,
         result: TaskResult,
     ) -> Result<(), TransportError> {
-        self.publish(FromWorker::Result(result))
+        self.publish(lease_seq(&route)?, FromWorker::Result(result))
     }
 
     fn replier(&self) -> Option<crate::link::Replier> {
         let port = self.results.clone()?;
-        Some(Arc::new(move |_route, result| {
+        Some(Arc::new(move |route, result| {
+            let seq = lease_seq(&route)?;
             let port =
                 port.lock().map_err(|_| TransportError::Closed("result port poisoned".into()))?;
-            port.publish(FromWorker::Result(result))
+            port.publish(seq, FromWorker::Result(result))
         }))
     }
 
     fn hand_back(&mut self, route: Box<dyn std::any::Any + Send>, reason: &str) {
-        if let Ok(id) = route.downcast::<TaskId>() {
-            let _ = self.publish(FromWorker::HandBack { id: *id, reason: reason.to_string() });
+        if let Ok(lease) = route.downcast::<(TaskId, u64)>() {
+            let (id, seq) = *lease;
+            let _ = self.publish(seq, FromWorker::HandBack { id, reason: reason.to_string() });
         }
     }
 
     fn leave(&mut self) {
-        let _ = self.publish(FromWorker::Goodbye);
+        let _ = self.publish(0, FromWorker::Goodbye);
         self.tasks = None;
         self.results = None;
+    }
+}
+
+/// The lease sequence number a task's route carries.
+fn lease_seq(route: &Box<dyn std::any::Any + Send>) -> Result<u64, TransportError> {
+    match route.downcast_ref::<(TaskId, u64)>() {
+        Some((_, seq)) => Ok(*seq),
+        None => Err(TransportError::Closed("foreign route".into())),
     }
 }
 

@@ -23,8 +23,11 @@ pub mod link;
 pub mod membership;
 pub mod messages;
 pub mod raw_f64;
+pub mod seal;
 pub mod task_reply;
 pub mod transport;
+#[cfg(feature = "zenoh")]
+pub mod zenoh_config;
 #[cfg(feature = "zenoh")]
 pub mod zenoh_transport;
 
@@ -33,4 +36,5 @@ pub use transport::{Transport, TransportError, TransportEvent, WorkerId};
 
 /// Version of the message layout; peers with another version are refused.
 /// 2: iceoryx2 welcomes and worker messages carry node ids.
-pub const PROTOCOL_VERSION: u16 = 2;
+/// 3: the Welcome carries the sweep's key; tasks and worker messages are sealed.
+pub const PROTOCOL_VERSION: u16 = 3;

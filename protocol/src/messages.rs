@@ -164,6 +164,8 @@ pub enum ToWorker {
         study_hash: String,
         /// The model every following task runs.
         model: ModelSpec,
+        /// The sweep's message key: every later message is sealed with it.
+        key: crate::seal::SweepKey,
     },
     /// Refuses the worker, with the reason (e.g. a version mismatch).
     Refuse {

@@ -1,15 +1,15 @@
 //! What the replies to one task query mean, decided once per query: the
-//! first valid reply counts; later, malformed or unexpected replies are
-//! dropped as [`TransportEvent::Rejected`] and never touch the worker.
-//! Used by the zenoh transport (one query may get several replies) and
-//! testable without a network.
+//! first valid reply counts; later, malformed, unsealed or unexpected
+//! replies are dropped as [`TransportEvent::Rejected`] and never touch the
+//! worker. A valid reply is sealed under the sweep's key for this query's
+//! lease ([`crate::seal`]): a result or a hand-back of this task. Error
+//! replies carry no MAC and never count. Used by the zenoh transport (one
+//! query may get several replies) and testable without a network.
 
-use crate::codec;
+use crate::seal::{Direction, SweepMac};
 use crate::transport::{TransportEvent, WorkerId};
 use crate::{FromWorker, TaskId};
-
-/// Prefix of a reply error that gives a task back unrun.
-pub const HAND_BACK: &str = "hand-back: ";
+use std::sync::Arc;
 
 /// Longest part of an error reply's text kept as a reason, in bytes.
 pub const MAX_REASON_BYTES: usize = 512;
@@ -17,9 +17,10 @@ pub const MAX_REASON_BYTES: usize = 512;
 /// One reply to a task query, as the transport received it.
 #[derive(Debug, Clone, Copy)]
 pub enum Reply<'a> {
-    /// A reply sample: should be an encoded [`FromWorker::Result`] for the task.
+    /// A reply sample: should be a sealed [`FromWorker::Result`] or
+    /// [`FromWorker::HandBack`] for the task.
     Answer(&'a [u8]),
-    /// An error reply: a hand-back ([`HAND_BACK`]) or the worker's refusal.
+    /// An error reply: never counts (it carries no MAC).
     Error(&'a [u8]),
 }
 
@@ -28,19 +29,29 @@ pub enum Reply<'a> {
 pub struct ReplyGate {
     worker: WorkerId,
     task: TaskId,
+    seq: u64,
+    mac: Arc<SweepMac>,
     counted: bool,
     received: bool,
+    /// Why the last reply was dropped (named when the attempt fails).
+    last_dropped: Option<String>,
 }
 
 impl ReplyGate {
-    /// A gate for the query that leased `task` to `worker`.
-    pub fn new(worker: WorkerId, task: TaskId) -> Self {
-        Self { worker, task, counted: false, received: false }
+    /// A gate for the query that leased `task` to `worker` as lease `seq`
+    /// of the sweep sealed by `mac`.
+    pub fn new(worker: WorkerId, task: TaskId, seq: u64, mac: Arc<SweepMac>) -> Self {
+        Self { worker, task, seq, mac, counted: false, received: false, last_dropped: None }
     }
 
     /// The task this query leased.
     pub fn task(&self) -> TaskId {
         self.task
+    }
+
+    /// The lease's sequence number a valid reply is sealed for.
+    pub fn seq(&self) -> u64 {
+        self.seq
     }
 
     /// The event for one reply: the first valid reply's meaning, a
@@ -55,7 +66,10 @@ impl ReplyGate {
             Reply::Answer(bytes) => self.answer(bytes),
             Reply::Error(bytes) => self.error(bytes),
         };
-        self.counted = !matches!(event, TransportEvent::Rejected { .. });
+        match &event {
+            TransportEvent::Rejected { reason } => self.last_dropped = Some(reason.clone()),
+            _ => self.counted = true,
+        }
         event
     }
 
@@ -67,7 +81,8 @@ impl ReplyGate {
         match (self.counted, self.received) {
             (true, _) => None,
             (false, true) => {
-                let reason = format!("{worker} sent no valid reply to {task}");
+                let last = self.last_dropped.as_deref().unwrap_or("");
+                let reason = format!("{worker} sent no valid reply to {task} (last: {last})");
                 Some(TransportEvent::Failed { worker, task, reason })
             }
             (false, false) => {
@@ -78,26 +93,30 @@ impl ReplyGate {
     }
 
     fn answer(&self, bytes: &[u8]) -> TransportEvent {
-        let (worker, task) = (self.worker, self.task);
-        match codec::decode::<FromWorker>(bytes) {
-            Ok(FromWorker::Result(result)) if result.id == task => {
+        let (worker, task, lease) = (self.worker, self.task, self.seq);
+        match self.mac.open::<FromWorker>(Direction::FromWorker, bytes) {
+            Ok((seq, _)) if seq != lease => rejected(format!(
+                "{worker}: a reply sealed for lease {seq} answered lease {lease} of {task} \
+                 (replayed or misrouted); dropped"
+            )),
+            Ok((_, FromWorker::Result(result))) if result.id == task => {
                 TransportEvent::Result { worker, result }
             }
-            Ok(FromWorker::Result(result)) => {
+            Ok((_, FromWorker::Result(result))) => {
                 rejected(format!("{worker} answered {task} with a result for {}", result.id))
             }
+            Ok((_, FromWorker::HandBack { id, .. })) if id == task => {
+                TransportEvent::HandedBack { worker, task }
+            }
             Ok(_) => rejected(format!("{worker} answered {task} with something else")),
-            Err(e) => rejected(format!("malformed reply from {worker} to {task}: {e}")),
+            Err(e) => rejected(format!("reply from {worker} to {task} dropped: {e}")),
         }
     }
 
     fn error(&self, bytes: &[u8]) -> TransportEvent {
         let (worker, task) = (self.worker, self.task);
         let text = reason_text(bytes);
-        if text.starts_with(HAND_BACK) {
-            return TransportEvent::HandedBack { worker, task };
-        }
-        TransportEvent::Failed { worker, task, reason: format!("{worker} refused {task}: {text}") }
+        rejected(format!("{worker}: an error reply to {task} carries no MAC, dropped: {text}"))
     }
 }
 
@@ -114,16 +133,33 @@ fn reason_text(bytes: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Outcome, Outputs, TaskResult};
+    use crate::seal::{SweepKey, KEY_BYTES};
+    use crate::{codec, Outcome, Outputs, TaskResult};
 
     const W: WorkerId = WorkerId(3);
     const T: TaskId = TaskId(7);
+    const SEQ: u64 = 11;
 
-    fn result_bytes(id: TaskId, y: f64) -> Vec<u8> {
+    fn mac() -> Arc<SweepMac> {
+        Arc::new(SweepMac::new(SweepKey::from_bytes([5; KEY_BYTES]), "sweep"))
+    }
+
+    fn gate() -> ReplyGate {
+        ReplyGate::new(W, T, SEQ, mac())
+    }
+
+    fn result(id: TaskId, y: f64) -> FromWorker {
         let outputs = Outputs { scalars: vec![("y".into(), y)], histories: vec![] };
-        let result =
-            TaskResult { id, outcome: Outcome::Ok(outputs), wall_s: 0.1, host: "h".into() };
-        codec::encode(&FromWorker::Result(result)).unwrap()
+        FromWorker::Result(TaskResult {
+            id,
+            outcome: Outcome::Ok(outputs),
+            wall_s: 0.1,
+            host: "h".into(),
+        })
+    }
+
+    fn sealed(seq: u64, msg: &FromWorker) -> Vec<u8> {
+        mac().seal(Direction::FromWorker, seq, msg).unwrap()
     }
 
     fn is_rejected(ev: &TransportEvent) -> bool {
@@ -132,58 +168,74 @@ mod tests {
 
     #[test]
     fn the_first_valid_reply_counts_and_later_ones_are_rejected() {
-        let mut gate = ReplyGate::new(W, T);
-        let first = gate.on_reply(Reply::Answer(&result_bytes(T, 1.0)));
+        let mut gate = gate();
+        let first = gate.on_reply(Reply::Answer(&sealed(SEQ, &result(T, 1.0))));
         assert!(matches!(first, TransportEvent::Result { worker: W, .. }));
-        assert!(is_rejected(&gate.on_reply(Reply::Answer(&result_bytes(T, 12345.0)))));
-        assert!(is_rejected(&gate.on_reply(Reply::Error(b"hand-back: x"))));
+        assert!(is_rejected(&gate.on_reply(Reply::Answer(&sealed(SEQ, &result(T, 12345.0))))));
+        let back = FromWorker::HandBack { id: T, reason: "x".into() };
+        assert!(is_rejected(&gate.on_reply(Reply::Answer(&sealed(SEQ, &back)))));
         assert_eq!(gate.on_close(), None);
     }
 
     #[test]
-    fn malformed_or_foreign_answers_are_rejected_and_never_drop_the_worker() {
-        let mut gate = ReplyGate::new(W, T);
+    fn malformed_unsealed_or_foreign_answers_are_rejected_and_never_drop_the_worker() {
+        let mut gate = gate();
         assert!(is_rejected(&gate.on_reply(Reply::Answer(b"\xff\xff\xff garbage"))));
-        assert!(is_rejected(&gate.on_reply(Reply::Answer(&result_bytes(TaskId(8), 1.0)))));
-        let ok = gate.on_reply(Reply::Answer(&result_bytes(T, 2.0)));
+        let plain = codec::encode(&result(T, 12345.0)).unwrap();
+        assert!(is_rejected(&gate.on_reply(Reply::Answer(&plain))));
+        assert!(is_rejected(&gate.on_reply(Reply::Answer(&sealed(SEQ, &result(TaskId(8), 1.0))))));
+        let ok = gate.on_reply(Reply::Answer(&sealed(SEQ, &result(T, 2.0))));
         assert!(matches!(ok, TransportEvent::Result { .. }));
     }
 
+    /// A reply sealed for another lease (an earlier attempt, another task)
+    /// is a replay: refused.
     #[test]
-    fn an_error_reply_fails_the_attempt_not_the_worker() {
-        let mut gate = ReplyGate::new(W, T);
-        match gate.on_reply(Reply::Error(b"model refused")) {
-            TransportEvent::Failed { worker, task, reason } => {
-                assert_eq!((worker, task), (W, T));
-                assert!(reason.contains("model refused"), "{reason}");
-            }
-            other => panic!("expected a failed attempt, got {other:?}"),
-        }
+    fn a_reply_sealed_for_another_lease_is_refused() {
+        let mut gate = gate();
+        let TransportEvent::Rejected { reason } =
+            gate.on_reply(Reply::Answer(&sealed(SEQ - 1, &result(T, 1.0))))
+        else {
+            panic!("a replay counted");
+        };
+        assert!(reason.contains("replayed"), "{reason}");
     }
 
     #[test]
-    fn hand_back_prefix_hands_the_task_back() {
-        let mut gate = ReplyGate::new(W, T);
-        let ev = gate.on_reply(Reply::Error(b"hand-back: worker stopping"));
+    fn an_error_reply_never_counts() {
+        let mut gate = gate();
+        let TransportEvent::Rejected { reason } = gate.on_reply(Reply::Error(b"model refused"))
+        else {
+            panic!("an error reply counted");
+        };
+        assert!(reason.contains("model refused") && reason.contains("no MAC"), "{reason}");
+        assert!(is_rejected(&gate.on_reply(Reply::Error(b"hand-back: worker stopping"))));
+    }
+
+    #[test]
+    fn a_sealed_hand_back_hands_the_task_back() {
+        let mut gate = gate();
+        let back = FromWorker::HandBack { id: T, reason: "worker stopping".into() };
+        let ev = gate.on_reply(Reply::Answer(&sealed(SEQ, &back)));
         assert_eq!(ev, TransportEvent::HandedBack { worker: W, task: T });
     }
 
     #[test]
     fn closing_after_only_invalid_replies_fails_the_attempt() {
-        let mut gate = ReplyGate::new(W, T);
+        let mut gate = gate();
         let _ = gate.on_reply(Reply::Answer(b"junk"));
         assert!(matches!(gate.on_close(), Some(TransportEvent::Failed { .. })));
-        let silent = ReplyGate::new(W, T);
+        let silent = ReplyGate::new(W, T, SEQ, mac());
         assert!(matches!(silent.on_close(), Some(TransportEvent::Left { .. })));
     }
 
     #[test]
     fn a_huge_error_text_is_cut_to_the_bound() {
-        let mut gate = ReplyGate::new(W, T);
+        let mut gate = gate();
         let big = vec![b'x'; 1 << 20];
-        let TransportEvent::Failed { reason, .. } = gate.on_reply(Reply::Error(&big)) else {
-            panic!("expected a failed attempt");
+        let TransportEvent::Rejected { reason } = gate.on_reply(Reply::Error(&big)) else {
+            panic!("expected a rejection");
         };
-        assert!(reason.len() < MAX_REASON_BYTES + 64);
+        assert!(reason.len() < MAX_REASON_BYTES + 128);
     }
 }

@@ -5,6 +5,7 @@
 //! leases, retries); a transport only moves messages and reports membership.
 
 use crate::{ModelSpec, Task, TaskResult};
+#[cfg(feature = "zenoh")]
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::Duration;
 
@@ -101,6 +102,7 @@ pub trait Transport: Send {
 }
 
 /// The next event of a transport that gathers its events on a channel.
+#[cfg(feature = "zenoh")]
 pub(crate) fn recv_event(
     events: &Receiver<TransportEvent>,
     timeout: Duration,

@@ -19,9 +19,12 @@ use crate::codec;
 use crate::link::{study_refusal, JoinRequest, Joined, LinkEvent, Ticket, WorkerLink};
 pub use crate::membership::safe_name;
 use crate::membership::Members;
-use crate::task_reply::{Reply, ReplyGate, HAND_BACK};
+use crate::seal::{Direction, SweepKey, SweepMac};
+use crate::task_reply::{Reply, ReplyGate};
 use crate::transport::{recv_event, Transport, TransportError, TransportEvent, WorkerId};
-use crate::{FromWorker, ModelSpec, Task, TaskResult, ToWorker, PROTOCOL_VERSION};
+use crate::zenoh_config::session_config;
+pub use crate::zenoh_config::{Role, ZenohSecurity, DEFAULT_ENDPOINT};
+use crate::{FromWorker, ModelSpec, Task, TaskId, TaskResult, ToWorker, PROTOCOL_VERSION};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -50,41 +53,23 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 /// Opens a zenoh session: the coordinator listens (peer), workers connect
-/// (client); messages above [`crate::codec::MAX_MESSAGE_BYTES`] are dropped
-/// by zenoh before they are reassembled.
-pub fn open_session(endpoint: &str, listen: bool) -> Result<Session, TransportError> {
-    let mut cfg = zenoh::Config::default();
-    let ep = serde_json_string(endpoint);
-    let set = |cfg: &mut zenoh::Config, k: &str, v: &str| cfg.insert_json5(k, v).map_err(setup);
-    if listen {
-        set(&mut cfg, "mode", "\"peer\"")?;
-        set(&mut cfg, "listen/endpoints", &format!("[{ep}]"))?;
-    } else {
-        set(&mut cfg, "mode", "\"client\"")?;
-        set(&mut cfg, "connect/endpoints", &format!("[{ep}]"))?;
-        // Keep trying while the coordinator is not up yet, or restarts.
-        set(&mut cfg, "connect/timeout_ms", "-1")?;
-        set(&mut cfg, "connect/exit_on_failure", "false")?;
-    }
-    set(&mut cfg, "scouting/multicast/enabled", "false")?;
-    // zenoh reassembles fragments up to 1 GiB by default; no message of ours
-    // is larger than the codec accepts.
-    let max = crate::codec::MAX_MESSAGE_BYTES.to_string();
-    set(&mut cfg, "transport/link/rx/max_message_size", &max)?;
+/// (client), under `security` ([`crate::zenoh_config`]); messages above
+/// [`crate::codec::MAX_MESSAGE_BYTES`] are dropped by zenoh before they are
+/// reassembled.
+pub fn open_session(
+    role: Role,
+    endpoint: Option<&str>,
+    security: &ZenohSecurity,
+) -> Result<Session, TransportError> {
+    let cfg = session_config(role, endpoint, security).map_err(setup)?;
     zenoh::open(cfg).wait().map_err(setup)
-}
-
-fn serde_json_string(s: &str) -> String {
-    let escaped: String = s
-        .chars()
-        .flat_map(|c| if c == '"' || c == '\\' { vec!['\\', c] } else { vec![c] })
-        .collect();
-    format!("\"{escaped}\"")
 }
 
 /// The coordinator's end: implements [`Transport`].
 pub struct ZenohCoordinator {
-    endpoint: String,
+    config: zenoh::Config,
+    mac: Option<Arc<SweepMac>>,
+    next_seq: u64,
     session: Option<Session>,
     prefix: String,
     members: Arc<Mutex<Members>>,
@@ -94,18 +79,23 @@ pub struct ZenohCoordinator {
 }
 
 impl ZenohCoordinator {
-    /// A coordinator that will listen on `endpoint` (e.g. `tcp/0.0.0.0:7447`).
-    pub fn new(endpoint: &str) -> Self {
+    /// A coordinator that will listen on `endpoint` (e.g. `tls/0.0.0.0:7447`;
+    /// `None`: the configuration file's, else [`DEFAULT_ENDPOINT`]); its
+    /// configuration is read and checked here, before anything starts.
+    pub fn new(endpoint: Option<&str>, security: &ZenohSecurity) -> Result<Self, TransportError> {
+        let config = session_config(Role::Listen, endpoint, security).map_err(setup)?;
         let (events_tx, events_rx) = channel();
-        Self {
-            endpoint: endpoint.to_string(),
+        Ok(Self {
+            config,
+            mac: None,
+            next_seq: 1,
             session: None,
             prefix: String::new(),
             members: Arc::default(),
             events_tx,
             events_rx,
             keep: Vec::new(),
-        }
+        })
     }
 
     fn declare_welcome(
@@ -113,10 +103,12 @@ impl ZenohCoordinator {
         session: &Session,
         study_hash: &str,
         model: &ModelSpec,
+        key: &SweepKey,
     ) -> Result<(), TransportError> {
         let welcome = codec::encode(&ToWorker::Welcome {
             study_hash: study_hash.to_string(),
             model: model.clone(),
+            key: key.clone(),
         })
         .map_err(setup)?;
         let (events, members) = (self.events_tx.clone(), self.members.clone());
@@ -195,9 +187,11 @@ impl Transport for ZenohCoordinator {
     }
 
     fn start(&mut self, study_hash: &str, model: &ModelSpec) -> Result<(), TransportError> {
-        let session = open_session(&self.endpoint, true)?;
+        let session = zenoh::open(self.config.clone()).wait().map_err(setup)?;
         self.prefix = sweep_prefix(study_hash);
-        self.declare_welcome(&session, study_hash, model)?;
+        let mac = Arc::new(SweepMac::new(SweepKey::random(), study_hash));
+        self.declare_welcome(&session, study_hash, model, mac.key())?;
+        self.mac = Some(mac);
         self.declare_membership(&session)?;
         self.session = Some(session);
         Ok(())
@@ -208,8 +202,11 @@ impl Transport for ZenohCoordinator {
             self.session.as_ref().ok_or_else(|| TransportError::Closed("not started".into()))?;
         let name = lock(&self.members).name(worker).map(str::to_string);
         let name = name.ok_or(TransportError::UnknownWorker(worker))?;
-        let gate = Arc::new(Mutex::new(ReplyGate::new(worker, task.id)));
-        let payload = codec::encode(&ToWorker::Task(task)).map_err(setup)?;
+        let mac = self.mac.clone().ok_or_else(|| TransportError::Closed("not started".into()))?;
+        let seq = self.next_seq;
+        self.next_seq += 1;
+        let gate = Arc::new(Mutex::new(ReplyGate::new(worker, task.id, seq, mac.clone())));
+        let payload = mac.seal(Direction::ToWorker, seq, &ToWorker::Task(task)).map_err(setup)?;
         let (ev1, ev2, gate2) = (self.events_tx.clone(), self.events_tx.clone(), gate.clone());
         let handler = CallbackDrop {
             callback: move |reply: zenoh::query::Reply| {
@@ -254,13 +251,23 @@ impl Transport for ZenohCoordinator {
     }
 }
 
-fn reply_to_query(
+/// A task query with the lease's sequence number its answer is sealed for.
+struct Lease {
+    query: Query,
+    seq: u64,
+    task: TaskId,
+}
+
+/// Answers a task query with `msg`, sealed for its lease.
+fn answer_lease(
+    mac: &SweepMac,
     route: Box<dyn std::any::Any + Send>,
-    result: TaskResult,
+    msg: &FromWorker,
 ) -> Result<(), TransportError> {
-    let query =
-        route.downcast::<Query>().map_err(|_| TransportError::Closed("foreign route".into()))?;
-    let bytes = codec::encode(&FromWorker::Result(result)).map_err(setup)?;
+    let lease =
+        route.downcast::<Lease>().map_err(|_| TransportError::Closed("foreign route".into()))?;
+    let bytes = mac.seal(Direction::FromWorker, lease.seq, msg).map_err(setup)?;
+    let query = lease.query;
     query
         .reply(query.key_expr().clone(), bytes)
         .wait()
@@ -272,6 +279,7 @@ pub struct ZenohWorker {
     session: Session,
     name: String,
     joined: Option<String>,
+    mac: Option<Arc<SweepMac>>,
     queryable: Option<Queryable<FifoChannelHandler<Query>>>,
     token: Option<LivelinessToken>,
     coordinator_gone: Arc<AtomicBool>,
@@ -279,12 +287,17 @@ pub struct ZenohWorker {
 }
 
 impl ZenohWorker {
-    /// Connects to a coordinator's endpoint (e.g. `tcp/10.0.0.5:7447`).
-    pub fn connect(endpoint: &str) -> Result<Self, TransportError> {
+    /// Connects to a coordinator's endpoint (e.g. `tls/10.0.0.5:7447`;
+    /// `None`: the configuration file's, else [`DEFAULT_ENDPOINT`]).
+    pub fn connect(
+        endpoint: Option<&str>,
+        security: &ZenohSecurity,
+    ) -> Result<Self, TransportError> {
         Ok(Self {
-            session: open_session(endpoint, false)?,
+            session: open_session(Role::Connect, endpoint, security)?,
             name: String::new(),
             joined: None,
+            mac: None,
             queryable: None,
             token: None,
             coordinator_gone: Arc::new(AtomicBool::new(false)),
@@ -322,8 +335,9 @@ impl WorkerLink for ZenohWorker {
         while let Ok(reply) = replies.recv() {
             match reply.result() {
                 Ok(sample) => match codec::decode::<ToWorker>(&sample.payload().to_bytes()) {
-                    Ok(ToWorker::Welcome { study_hash, model }) => {
+                    Ok(ToWorker::Welcome { study_hash, model, key }) => {
                         self.joined = Some(sweep_prefix(&study_hash));
+                        self.mac = Some(Arc::new(SweepMac::new(key, &study_hash)));
                         return Ok(Some(Joined { study_hash, model }));
                     }
                     Ok(other) => tracing::warn!(?other, "unexpected answer to Hello"),
@@ -391,18 +405,22 @@ impl WorkerLink for ZenohWorker {
         else {
             return Ok(LinkEvent::Idle);
         };
+        let mac = self.mac.as_ref().ok_or_else(|| TransportError::Closed("not joined".into()))?;
         let bytes = query.payload().map(|p| p.to_bytes().into_owned()).unwrap_or_default();
-        match codec::decode::<ToWorker>(&bytes) {
-            Ok(ToWorker::Task(task)) => {
-                Ok(LinkEvent::Task(Ticket { task, route: Box::new(query) }))
+        // A query that fails the MAC is the querier's problem only: it gets
+        // an error reply, nothing else changes.
+        match mac.open::<ToWorker>(Direction::ToWorker, &bytes) {
+            Ok((seq, ToWorker::Task(task))) => {
+                let lease = Lease { query, seq, task: task.id };
+                Ok(LinkEvent::Task(Ticket { task, route: Box::new(lease) }))
             }
             Ok(_) => {
                 let _ = query.reply_err("expected a task").wait();
                 Ok(LinkEvent::Idle)
             }
             Err(e) => {
-                tracing::warn!(error = %e, "dropped a malformed task message");
-                let _ = query.reply_err(format!("malformed task: {e}")).wait();
+                tracing::warn!(error = %e, "dropped a task message");
+                let _ = query.reply_err(format!("task refused: {e}")).wait();
                 Ok(LinkEvent::Idle)
             }
         }
@@ -413,17 +431,19 @@ impl WorkerLink for ZenohWorker {
         route: Box<dyn std::any::Any + Send>,
         result: TaskResult,
     ) -> Result<(), TransportError> {
-        reply_to_query(route, result)
+        let mac = self.mac.as_ref().ok_or_else(|| TransportError::Closed("not joined".into()))?;
+        answer_lease(mac, route, &FromWorker::Result(result))
     }
 
     fn replier(&self) -> Option<crate::link::Replier> {
-        Some(Arc::new(reply_to_query))
+        let mac = self.mac.clone()?;
+        Some(Arc::new(move |route, result| answer_lease(&mac, route, &FromWorker::Result(result))))
     }
 
     fn hand_back(&mut self, route: Box<dyn std::any::Any + Send>, reason: &str) {
-        if let Ok(query) = route.downcast::<Query>() {
-            let _ = query.reply_err(format!("{HAND_BACK}{reason}")).wait();
-        }
+        let Some(mac) = &self.mac else { return };
+        let Some(id) = route.downcast_ref::<Lease>().map(|lease| lease.task) else { return };
+        let _ = answer_lease(mac, route, &FromWorker::HandBack { id, reason: reason.into() });
     }
 
     fn leave(&mut self) {

@@ -1,5 +1,6 @@
-//! zenoh: a liveliness token alone makes no worker, and an error reply
-//! fails that task's attempt without dropping the worker (issue 56).
+//! zenoh: a liveliness token alone makes no worker; an error reply never
+//! counts (it carries no MAC), and the attempt it spoilt fails without
+//! dropping the worker (issue 56).
 
 use super::*;
 use crate::{Outcome, Outputs, TaskId};
@@ -29,7 +30,7 @@ fn expect(c: &mut ZenohCoordinator, want: impl Fn(&TransportEvent) -> bool) -> T
 
 /// A worker joined and serving; retries until the coordinator answers.
 fn joined_worker(ep: &str, name: &str) -> ZenohWorker {
-    let mut w = ZenohWorker::connect(ep).unwrap();
+    let mut w = ZenohWorker::connect(Some(ep), &ZenohSecurity::default()).unwrap();
     let request = JoinRequest { name: name.into(), threads: 1, study: None };
     let until = Instant::now() + Duration::from_secs(10);
     while w.join(&request, Duration::from_millis(500)).unwrap().is_none() {
@@ -42,7 +43,7 @@ fn joined_worker(ep: &str, name: &str) -> ZenohWorker {
 /// A coordinator started at `ep` with one worker, `w`, joined: both, and
 /// the worker's id.
 fn started_with_worker(ep: &str) -> (ZenohCoordinator, ZenohWorker, WorkerId) {
-    let mut c = ZenohCoordinator::new(ep);
+    let mut c = ZenohCoordinator::new(Some(ep), &ZenohSecurity::default()).unwrap();
     c.start(HASH, &ModelSpec::noop()).unwrap();
     let w = joined_worker(ep, "w");
     match expect(&mut c, |ev| matches!(ev, TransportEvent::Joined { .. })) {
@@ -63,9 +64,9 @@ fn next_ticket(w: &mut ZenohWorker) -> Ticket {
 #[test]
 fn a_liveliness_token_without_a_hello_makes_no_worker() {
     let ep = endpoint(1);
-    let mut c = ZenohCoordinator::new(&ep);
+    let mut c = ZenohCoordinator::new(Some(&ep), &ZenohSecurity::default()).unwrap();
     c.start(HASH, &ModelSpec::noop()).unwrap();
-    let intruder = open_session(&ep, false).unwrap();
+    let intruder = open_session(Role::Connect, Some(&ep), &ZenohSecurity::default()).unwrap();
     let key = format!("{}/alive/intruder/1", sweep_prefix(HASH));
     let _token = intruder.liveliness().declare_token(key).wait().unwrap();
     let rejected = |ev: &TransportEvent| matches!(ev, TransportEvent::Rejected { reason } if reason.contains("without a Hello"));
@@ -81,12 +82,13 @@ fn an_error_reply_fails_the_attempt_and_the_worker_stays() {
     let ep = endpoint(2);
     let (mut c, mut w, worker) = started_with_worker(&ep);
     c.send(worker, Task { id: TaskId(1), params: vec![1.0] }).unwrap();
-    let query = next_ticket(&mut w).route.downcast::<Query>().unwrap();
-    query.reply_err("model refused").wait().unwrap();
-    drop(query);
+    let lease = next_ticket(&mut w).route.downcast::<Lease>().unwrap();
+    lease.query.reply_err("model refused").wait().unwrap();
+    drop(lease);
+    let dropped = |ev: &TransportEvent| matches!(ev, TransportEvent::Rejected { reason } if reason.contains("model refused") && reason.contains("no MAC"));
+    expect(&mut c, dropped);
     let failed = expect(&mut c, |ev| matches!(ev, TransportEvent::Failed { .. }));
-    assert!(matches!(failed, TransportEvent::Failed { task: TaskId(1), reason, .. }
-        if reason.contains("model refused")));
+    assert!(matches!(failed, TransportEvent::Failed { task: TaskId(1), .. }));
     // The same worker still gets and answers tasks.
     c.send(worker, Task { id: TaskId(2), params: vec![2.0] }).unwrap();
     let ticket = next_ticket(&mut w);
@@ -102,14 +104,15 @@ fn one_reply_per_task_query_counts_and_a_hand_back_is_reported() {
     let ep = endpoint(3);
     let (mut c, mut w, worker) = started_with_worker(&ep);
     c.send(worker, Task { id: TaskId(3), params: vec![3.0] }).unwrap();
-    let query = next_ticket(&mut w).route.downcast::<Query>().unwrap();
+    let lease = next_ticket(&mut w).route.downcast::<Lease>().unwrap();
+    let mac = w.mac.clone().unwrap();
     for wall_s in [1.0, 12345.0] {
         let outcome = Outcome::Ok(Outputs::default());
         let result = TaskResult { id: TaskId(3), outcome, wall_s, host: "h".into() };
-        let bytes = codec::encode(&FromWorker::Result(result)).unwrap();
-        query.reply(query.key_expr().clone(), bytes).wait().unwrap();
+        let bytes = mac.seal(Direction::FromWorker, lease.seq, &FromWorker::Result(result));
+        lease.query.reply(lease.query.key_expr().clone(), bytes.unwrap()).wait().unwrap();
     }
-    drop(query);
+    drop(lease);
     let first = expect(&mut c, |ev| matches!(ev, TransportEvent::Result { .. }));
     assert!(matches!(first, TransportEvent::Result { result, .. } if result.wall_s == 1.0));
     expect(

@@ -74,9 +74,79 @@ pub fn build(spec: &ModelSpec) -> Result<Box<dyn Model>, ModelError> {
     })
 }
 
+/// Option keys that name a file on the machine that reads them (a
+/// specimen's `spec`, a record's `file`); the coordinator sends their
+/// contents inline (`spec_toml`, `csv`).
+const FILE_KEYS: [&str; 2] = ["spec", "file"];
+
+/// Builds the model of a spec that came from another process: one whose
+/// options name a local file (a [`FILE_KEYS`] key at any depth) is refused,
+/// so no remote message makes this worker read a path of its choosing
+/// (`/dev/zero`, a FIFO, `/etc/passwd`).
+pub fn build_remote(spec: &ModelSpec) -> Result<Box<dyn Model>, ModelError> {
+    let text = spec.options_json.trim();
+    if !text.is_empty() {
+        let opts: Value = serde_json::from_str(text).map_err(|e| ModelError::Invalid {
+            kind: spec.kind.clone(),
+            message: format!("options: {e}"),
+        })?;
+        if let Some(key) = file_key(&opts, "model") {
+            return Err(ModelError::Invalid {
+                kind: spec.kind.clone(),
+                message: format!(
+                    "{key}: a remote worker reads no local file (the coordinator sends its \
+                     contents inline)"
+                ),
+            });
+        }
+    }
+    build(spec)
+}
+
+/// The dotted name of the first option that names a file, if any.
+fn file_key(v: &Value, at: &str) -> Option<String> {
+    match v {
+        Value::Object(map) => map.iter().find_map(|(k, v)| {
+            let here = format!("{at}.{k}");
+            match FILE_KEYS.contains(&k.as_str()) && !v.is_null() {
+                true => Some(here),
+                false => file_key(v, &here),
+            }
+        }),
+        Value::Array(items) => {
+            items.iter().enumerate().find_map(|(i, v)| file_key(v, &format!("{at}[{i}]")))
+        }
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn remote_spec(kind: &str, options_json: &str) -> ModelSpec {
+        ModelSpec {
+            kind: kind.into(),
+            options_json: options_json.into(),
+            param_names: vec![],
+            outputs: vec![],
+        }
+    }
+
+    /// Regression (issue 56): a fake Welcome naming `spec = "/dev/zero"`
+    /// made workers read until out of memory.
+    #[test]
+    fn a_remote_spec_naming_a_local_file_is_refused_unread() {
+        let fifo = remote_spec("ceiling", r#"{"spec": "/dev/zero", "excitation": {}}"#);
+        let err = build_remote(&fifo).err().expect("refused");
+        assert!(err.to_string().contains("model.spec: a remote worker reads no local file"));
+        let record =
+            r#"{"spec_toml": "x", "excitation": {"kind": "record", "file": "/etc/passwd"}}"#;
+        let err = build_remote(&remote_spec("ceiling", record)).err().expect("refused");
+        assert!(err.to_string().contains("model.excitation.file"), "{err}");
+        assert!(build_remote(&remote_spec("noop", "{}")).is_ok());
+        assert!(build_remote(&remote_spec("noop", "")).is_ok());
+    }
 
     fn spec(kind: &str, opts: &str, names: &[&str]) -> ModelSpec {
         ModelSpec {

@@ -114,7 +114,7 @@ pub fn serve_remote(
             continue;
         };
         let runners: Result<Vec<_>, _> =
-            (0..s.threads.max(1)).map(|_| LocalRunner::new(&joined.model)).collect();
+            (0..s.threads.max(1)).map(|_| LocalRunner::remote(&joined.model)).collect();
         let runners = match runners {
             Ok(r) => r,
             Err(e) => {

@@ -63,6 +63,16 @@ impl LocalRunner {
         })
     }
 
+    /// A runner for a spec from another process: one naming a local file
+    /// is refused ([`crate::registry::build_remote`]).
+    pub fn remote(spec: &protocol::ModelSpec) -> Result<Self, crate::ModelError> {
+        Ok(Self {
+            model: crate::registry::build_remote(spec)?,
+            names: spec.param_names.clone(),
+            host: host_name(),
+        })
+    }
+
     /// A factory for [`protocol::in_process::InProcess`].
     pub fn factory() -> protocol::in_process::RunnerFactory {
         Arc::new(|spec| {

@@ -4,6 +4,7 @@ pub mod bundle;
 pub mod calibrate;
 pub mod demo;
 pub mod diagnose;
+pub mod farm;
 pub mod fe;
 pub mod gp;
 pub mod pipeline;

@@ -5,6 +5,7 @@ use clap::{Args, ValueEnum};
 use coordinator::store::Store;
 use coordinator::study::{format_value, Study, TransportKind};
 use coordinator::sweep::{run_sweep, SweepOptions};
+use coordinator::transports::ZenohSecurity;
 use std::path::PathBuf;
 
 /// How a sweep is farmed out: the options `run` and `pipeline` share.
@@ -17,10 +18,19 @@ pub struct FarmArgs {
     /// Transport (default: the study's [farm] transport, else in-process).
     #[arg(long, value_enum)]
     pub transport: Option<TransportKind>,
-    /// Where the coordinator listens (zenoh, e.g. tcp/0.0.0.0:7447) or the
-    /// service prefix (iceoryx2).
+    /// Where the coordinator listens (zenoh, e.g. tls/0.0.0.0:7447; default
+    /// the --zenoh-config file's, else tcp/127.0.0.1:7447) or the service
+    /// prefix (iceoryx2).
     #[arg(long)]
     pub endpoint: Option<String>,
+    /// zenoh's own JSON5 configuration: TLS with mutual authentication and
+    /// access control (`ceilfarm farm certs` writes one).
+    #[arg(long, value_name = "FILE")]
+    pub zenoh_config: Option<PathBuf>,
+    /// Let zenoh listen beyond loopback without TLS with mutual
+    /// authentication: anyone who reaches the port may join (docs/farm.md).
+    #[arg(long)]
+    pub insecure: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -40,6 +50,7 @@ impl FarmArgs {
             quiet: self.quiet,
             transport: self.transport,
             endpoint: self.endpoint.clone(),
+            zenoh: ZenohSecurity { config: self.zenoh_config.clone(), insecure: self.insecure },
         })
     }
 }

@@ -5,6 +5,7 @@
 use anyhow::Result;
 use clap::Args;
 use coordinator::study::TransportKind;
+use coordinator::transports::ZenohSecurity;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -14,10 +15,15 @@ pub struct WorkerArgs {
     /// Transport to serve.
     #[arg(long, value_enum)]
     pub transport: TransportKind,
-    /// The coordinator's endpoint (zenoh, e.g. tcp/10.0.0.5:7447) or the
-    /// service prefix (iceoryx2).
+    /// The coordinator's endpoint (zenoh, e.g. tls/10.0.0.5:7447; default
+    /// the --zenoh-config file's, else tcp/127.0.0.1:7447) or the service
+    /// prefix (iceoryx2).
     #[arg(long)]
     pub connect: Option<String>,
+    /// zenoh's own JSON5 configuration: the worker's certificate and key and
+    /// the lab's CA (`ceilfarm farm certs` writes one per worker).
+    #[arg(long, value_name = "FILE")]
+    pub zenoh_config: Option<std::path::PathBuf>,
     /// Tasks run at once (default 1).
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
@@ -30,8 +36,10 @@ pub struct WorkerArgs {
     pub study: Option<String>,
 }
 
-/// Sets `stop` on SIGTERM or SIGINT.
-fn stop_on_signals(stop: Arc<AtomicBool>) -> Result<()> {
+/// Sets `stop` on SIGTERM or SIGINT; exits at once (status 0) while
+/// `connected` is still false: a worker still connecting (zenoh's open
+/// waits for the coordinator without end) holds no task to finish.
+fn stop_on_signals(stop: Arc<AtomicBool>, connected: Arc<AtomicBool>) -> Result<()> {
     let rt = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     std::thread::spawn(move || {
         rt.block_on(async move {
@@ -44,6 +52,10 @@ fn stop_on_signals(stop: Arc<AtomicBool>) -> Result<()> {
             tokio::select! {
                 _ = term.recv() => {},
                 _ = int.recv() => {},
+            }
+            if !connected.load(Ordering::SeqCst) {
+                tracing::info!("stop requested before the link was up: exiting");
+                std::process::exit(0);
             }
             tracing::info!("stop requested: finishing running tasks");
             stop.store(true, Ordering::Relaxed);
@@ -58,10 +70,14 @@ pub fn run(args: WorkerArgs) -> Result<()> {
         anyhow::bail!("--threads 0: expected at least 1");
     }
     let stop = Arc::new(AtomicBool::new(false));
-    stop_on_signals(stop.clone())?;
+    let connected = Arc::new(AtomicBool::new(false));
+    stop_on_signals(stop.clone(), connected.clone())?;
     let name =
         args.name.unwrap_or_else(|| format!("{}-{}", worker::run::host_name(), std::process::id()));
-    let mut link = coordinator::transports::worker_link(args.transport, args.connect.as_deref())?;
+    let security = ZenohSecurity { config: args.zenoh_config, insecure: false };
+    let mut link =
+        coordinator::transports::worker_link(args.transport, args.connect.as_deref(), &security)?;
+    connected.store(true, Ordering::SeqCst);
     let study = args.study.as_deref().map(study_pin).transpose()?;
     let settings = worker::remote::RemoteSettings { name, threads: args.threads, study };
     worker::remote::serve_remote(link.as_mut(), &settings, &stop)?;

@@ -21,3 +21,7 @@ mod sweep_faults;
 mod sweep_refusals;
 mod sweep_resume;
 mod transports;
+#[cfg(feature = "zenoh")]
+mod security_attacks;
+#[cfg(feature = "zenoh")]
+mod security_sigterm;

@@ -51,8 +51,9 @@ unsafe impl GlobalAlloc for Largest {
 #[global_allocator]
 static ALLOC: Largest = Largest;
 
-/// Largest single allocation (bytes) made by `f` on this thread.
-fn largest_allocation(f: impl FnOnce()) -> usize {
+/// Largest single allocation (bytes) made by `f` on this thread (the
+/// binary's one counting allocator, shared with the decoder fuzz).
+pub(crate) fn largest_allocation(f: impl FnOnce()) -> usize {
     LARGEST.with(|l| l.set(Some(0)));
     f();
     LARGEST.with(|l| l.take()).expect("measuring")

@@ -4,4 +4,5 @@
 //! --test it MODULE::`.
 
 mod decode_limits;
+mod security_decoder_fuzz;
 mod zenoh_refusals;
