@@ -14,6 +14,10 @@ mod opensees_variants;
 mod pipeline_seed_ch6;
 mod report_browser;
 mod report_svg;
+#[cfg(feature = "zenoh")]
+mod security_attacks;
+#[cfg(feature = "zenoh")]
+mod security_sigterm;
 mod sobol_cli;
 mod sweep_borehole;
 mod sweep_ceiling;
@@ -21,7 +25,3 @@ mod sweep_faults;
 mod sweep_refusals;
 mod sweep_resume;
 mod transports;
-#[cfg(feature = "zenoh")]
-mod security_attacks;
-#[cfg(feature = "zenoh")]
-mod security_sigterm;

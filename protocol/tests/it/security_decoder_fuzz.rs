@@ -9,11 +9,11 @@
 //! ([`crate::decode_limits`]), so tests running beside these are not
 //! counted.
 
+use crate::decode_limits::largest_allocation;
 use proptest::prelude::*;
 use protocol::codec::{decode, encode};
 use protocol::seal::{Direction, SweepKey, SweepMac, KEY_BYTES};
 use protocol::{FromWorker, History, Outcome, Outputs, Task, TaskId, TaskResult, ToWorker};
-use crate::decode_limits::largest_allocation;
 
 /// Most bytes one allocation may take while decoding a fuzzed message.
 const LIMIT_BYTES: usize = 1 << 20;
