@@ -56,6 +56,7 @@ pub fn run(a: Args) -> Result<()> {
         endpoint: None,
         settings: FarmSettings::default(),
         store: Some(store.clone()),
+        zenoh: Default::default(),
     };
     let rate = Some(coordinator::diagnose::resample::SIMULATION_RATE_HZ);
     let report = super::diagnose::diagnose_dir(&bundle, &out, &opts, rate, &plan, a.quiet)?;

@@ -109,13 +109,6 @@ pub struct Args {
 /// Runs `diagnose`.
 pub fn run(a: Args) -> Result<()> {
     let sweep = a.farm.options(a.out.join("evaluations.db"), true)?;
-    if sweep.zenoh != Default::default() {
-        // FarmPlan (diagnose::farm_executor) does not carry zenoh's security yet.
-        anyhow::bail!(
-            "diagnose: --zenoh-config and --insecure are not wired to the diagnosis's farm yet; \
-             its zenoh coordinator listens on loopback addresses only"
-        );
-    }
     let workers = sweep.workers.unwrap_or(DEFAULT_WORKERS);
     let budget = Budget {
         threads: workers,
@@ -132,6 +125,7 @@ pub fn run(a: Args) -> Result<()> {
         endpoint: sweep.endpoint,
         settings: FarmSettings::default(),
         store: Some(a.store.unwrap_or(sweep.store)),
+        zenoh: sweep.zenoh.clone(),
     };
     let rate = a.simulation_rate_hz;
     if !(rate >= 0.0 && rate.is_finite()) {

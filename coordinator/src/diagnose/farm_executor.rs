@@ -31,6 +31,8 @@ pub struct FarmPlan {
     pub settings: FarmSettings,
     /// The evaluation store (none: nothing kept, nothing re-used).
     pub store: Option<PathBuf>,
+    /// Zenoh's security (`--zenoh-config`, `--insecure`).
+    pub zenoh: crate::transports::ZenohSecurity,
 }
 
 /// Each task's outcome (or why it could not be set up) and whether it was
@@ -203,10 +205,11 @@ fn session_for<'s>(
         *current = None;
     }
     if current.is_none() {
-        let transport = crate::transports::coordinator_transport(
+        let transport = crate::transports::coordinator_transport_secured(
             plan.transport,
             plan.workers.max(1),
             plan.endpoint.as_deref(),
+            &plan.zenoh,
         )?;
         let session =
             FarmSession::start(transport, &study.hash, &study.spec, plan.settings.clone())?;

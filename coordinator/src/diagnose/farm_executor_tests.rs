@@ -60,6 +60,7 @@ fn in_process(store: Option<std::path::PathBuf>) -> FarmExecutor {
         endpoint: None,
         settings: FarmSettings::default(),
         store,
+        zenoh: Default::default(),
     })
     .unwrap()
 }
