@@ -162,7 +162,12 @@ impl Calibration {
 
     /// −log L of each point under weights `n_eff` (failed: +∞).
     pub fn objective(&self, n_eff: &[f64]) -> Vec<f64> {
-        self.points.iter().map(|p| p.neg_log_lik(n_eff)).collect()
+        self.objective_by(&Likelihood::Time(n_eff))
+    }
+
+    /// −log L of each point under likelihood `lik` (failed: +∞).
+    pub fn objective_by(&self, lik: &Likelihood<'_>) -> Vec<f64> {
+        self.points.iter().map(|p| p.neg_log_lik_by(lik)).collect()
     }
 
     /// The last evaluation of unit-cube point `u`, if any.
@@ -177,7 +182,7 @@ impl Calibration {
 
     /// Index of the best evaluated point under likelihood `lik`.
     pub fn best_by(&self, lik: &Likelihood<'_>) -> Option<usize> {
-        let f: Vec<f64> = self.points.iter().map(|p| p.neg_log_lik_by(lik)).collect();
+        let f = self.objective_by(lik);
         (0..f.len()).filter(|k| f[*k].is_finite()).min_by(|a, b| f[*a].total_cmp(&f[*b]))
     }
 

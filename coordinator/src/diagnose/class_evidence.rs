@@ -352,7 +352,7 @@ fn rise_ratio(cal: &Calibration, n_eff: &[f64], lik: &Likelihood, floor: f64) ->
         return 1.0;
     }
     let time = cal.objective(n_eff);
-    let other: Vec<f64> = cal.points.iter().map(|p| p.neg_log_lik_by(lik)).collect();
+    let other = cal.objective_by(lik);
     let low = |v: &[f64]| v.iter().copied().filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min);
     let (t0, o0) = (low(&time), low(&other));
     let mut ratios: Vec<f64> = time

@@ -339,9 +339,8 @@ pub fn diagnose_with(
     results[pick].selected = true;
     progress("posterior (BBVI, checked by FE runs)", 0, 1);
     let check = (opts.budget.seed, check_rounds(campaign_work(b, &cal_runs)));
-    let post = checked_posterior(&mut v.cals[pick], (b, &cal_runs), &n_eff, check, exec)?;
-    results[pick].fe_points += post.as_ref().ok().and_then(|p| p.check).map_or(0, |c| c.fe_points);
-    results[pick].posterior = Some(post);
+    let data = (b, &cal_runs[..]);
+    attach_posterior(&mut v.cals[pick], &mut results[pick], data, &n_eff, check, exec)?;
     progress("posterior (BBVI, checked by FE runs)", 1, 1);
     if let Some(policy) = &opts.evidence {
         let stage = "class evidence (tempered SMC, checked by FE runs)";
@@ -354,21 +353,22 @@ pub fn diagnose_with(
             r.odds = Some(o);
         }
     }
-    let pick = match (opts.rule, most_probable(&results)) {
-        (VerdictRule::Evidence, Some(k)) if k != pick => {
+    let by_evidence = match opts.rule {
+        VerdictRule::Evidence => most_probable(&results),
+        VerdictRule::Mdl => None,
+    };
+    let pick = match by_evidence {
+        Some(k) if k != pick => {
             results[pick].selected = false;
             results[pick].posterior = None;
             results[k].selected = true;
-            let post = checked_posterior(&mut v.cals[k], (b, &cal_runs), &n_eff, check, exec)?;
-            results[k].fe_points +=
-                post.as_ref().ok().and_then(|p| p.check).map_or(0, |c| c.fe_points);
-            results[k].posterior = Some(post);
+            attach_posterior(&mut v.cals[k], &mut results[k], data, &n_eff, check, exec)?;
             k
         }
         _ => pick,
     };
     let mut d = conclude(b, results, pick, (cal_runs, val_runs));
-    d.rule = if most_probable(&d.candidates).is_some() { opts.rule } else { VerdictRule::Mdl };
+    d.rule = if by_evidence.is_some() { VerdictRule::Evidence } else { VerdictRule::Mdl };
     d.channels = v.channels;
     d.linear = linear;
     d.unexplained = unexplained(&d);
@@ -409,21 +409,23 @@ struct Variants {
 }
 
 impl Variants {
-    /// Channel weights from the baseline at its best design point.
-    fn baseline_weights(&self) -> Result<Vec<f64>, DiagnoseError> {
+    /// The baseline's channel fits at its best design point.
+    fn baseline_channels(&self) -> Result<&[ChannelFit], DiagnoseError> {
         match &self.cals[0].points[self.base_best].fit {
-            Ok(ch) => Ok(effective_sizes(ch)),
+            Ok(ch) => Ok(ch),
             Err(e) => Err(DiagnoseError::Model(e.clone())),
         }
+    }
+
+    /// Channel weights from the baseline at its best design point.
+    fn baseline_weights(&self) -> Result<Vec<f64>, DiagnoseError> {
+        self.baseline_channels().map(effective_sizes)
     }
 
     /// The in-band degrees of freedom of the baseline's residual at its
     /// estimate ([`band_sizes`]), fixed as the effective sizes are.
     fn baseline_band_dof(&self) -> Result<Vec<f64>, DiagnoseError> {
-        match &self.cals[0].points[self.base_best].fit {
-            Ok(ch) => Ok(band_sizes(ch)),
-            Err(e) => Err(DiagnoseError::Model(e.clone())),
-        }
+        self.baseline_channels().map(band_sizes)
     }
 }
 
@@ -678,6 +680,22 @@ fn conclude(
         unexplained: None,
         rule: VerdictRule::Mdl,
     }
+}
+
+/// `cal`'s checked posterior ([`checked_posterior`] on `data`, the
+/// calibration runs) recorded in its result `r` with the FE runs it spent.
+fn attach_posterior(
+    cal: &mut Calibration,
+    r: &mut CandidateResult,
+    data: (&Bundle, &[usize]),
+    n_eff: &[f64],
+    check: (u64, usize),
+    exec: &mut dyn FeExecutor,
+) -> Result<(), DiagnoseError> {
+    let post = checked_posterior(cal, data, n_eff, check, exec)?;
+    r.fe_points += post.as_ref().ok().and_then(|p| p.check).map_or(0, |c| c.fe_points);
+    r.posterior = Some(post);
+    Ok(())
 }
 
 /// The candidate of highest evidence among those that have one (None:
