@@ -904,13 +904,13 @@ mod tests {
 
     #[test]
     fn an_extension_is_explored_from_the_baseline_and_the_seed_shape() {
-        let priors = Cause::PerimeterPounding.priors();
+        let priors = Cause::PERIMETER_POUNDING.priors();
         let held = held_point(&priors, &[0.3, 0.7]);
         assert_eq!(&held[..3], &[0.3, 0.7, 0.5]);
         // impact_factor's reference is the seed's 0.4 EA/L: factor 1.
         assert!((priors[3].at(held[3]) - 1.0).abs() < 1e-12, "{}", priors[3].at(held[3]));
         // The baseline has no reference: every parameter is explored.
-        assert_eq!(held_point(&Cause::None.priors(), &[]), vec![0.5, 0.5]);
+        assert_eq!(held_point(&Cause::NONE.priors(), &[]), vec![0.5, 0.5]);
     }
 
     #[test]

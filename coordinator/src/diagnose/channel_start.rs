@@ -76,7 +76,7 @@ mod tests {
         let priors = baseline_priors(&[], true);
         let u = vec![0.3, 0.4, 0.5, beams_u];
         Calibration {
-            cause: Cause::None,
+            cause: Cause::NONE,
             priors,
             free: vec![0, 1, 2, 3],
             points: vec![Point {

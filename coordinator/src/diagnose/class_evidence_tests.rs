@@ -139,7 +139,7 @@ fn matches_quadrature(kind: LikelihoodKind) {
     let quad_s = t.elapsed().as_secs_f64();
     let t = std::time::Instant::now();
     let budget = Budget { threads: 2, ..Budget::default() };
-    let class = (Cause::None, &priors[..]);
+    let class = (Cause::NONE, &priors[..]);
     let cal =
         calibrate(&b, class, &cal_runs, &n_eff, &budget, None, &mut exec, &mut |_, _| {}).unwrap();
     let policy = EvidencePolicy { likelihood: kind, ..EvidencePolicy::default() };

@@ -4,8 +4,9 @@
 //! the data; the evidence's own Occam factor (each parameter's prior
 //! volume) is the only penalty on complexity.
 //!
-//! Reported beside the verdict, which the MDL rules still decide: the
-//! evidence is measured on campaigns before it is asked to choose.
+//! Reported beside the verdict, which the MDL rules decide by default;
+//! under `--verdict evidence` the most probable class names the cause and
+//! classes of several effects are searched ([`super::class_search`]).
 
 use super::calibrate::Calibration;
 use super::class_evidence::{class_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy};

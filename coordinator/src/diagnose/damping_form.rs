@@ -30,7 +30,7 @@ pub const FORM_NATS: f64 = super::pipeline::MISFIT_NATS;
 /// nonlinear (friction and connection springs carry Rayleigh damping;
 /// pounding's contacts do not, and the baseline's springs are elastic).
 pub fn has_damped_nonlinear_springs(cause: Cause) -> bool {
-    matches!(cause, Cause::PerimeterFriction | Cause::ConnectionHysteresis)
+    cause.has_damped_nonlinear_springs()
 }
 
 /// Calibrates the twin of the extension calibrated in `ext`, damped on its
@@ -132,7 +132,7 @@ mod tests {
     /// A friction calibration with one point per −log L in `nlls` (one
     /// channel, n_eff 2: −log L = log SSR); NaN: a failed simulation.
     fn calibration(nlls: &[f64], committed_share: f64) -> Calibration {
-        let cause = Cause::PerimeterFriction;
+        let cause = Cause::PERIMETER_FRICTION;
         let point = |nll: &f64| Point {
             u: vec![0.5; cause.priors().len()],
             fit: if nll.is_nan() {
@@ -186,6 +186,6 @@ mod tests {
     fn only_friction_and_connections_have_damped_nonlinear_springs() {
         let with: Vec<Cause> =
             Cause::ALL.into_iter().filter(|c| has_damped_nonlinear_springs(*c)).collect();
-        assert_eq!(with, [Cause::PerimeterFriction, Cause::ConnectionHysteresis]);
+        assert_eq!(with, [Cause::PERIMETER_FRICTION, Cause::CONNECTION_HYSTERESIS]);
     }
 }

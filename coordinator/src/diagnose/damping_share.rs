@@ -160,7 +160,7 @@ mod tests {
 
     #[test]
     fn the_share_joins_the_baseline_parameters_at_the_seed_pair() {
-        for cause in [Cause::None, Cause::ConnectionHysteresis] {
+        for cause in [Cause::NONE, Cause::CONNECTION_HYSTERESIS] {
             let cal = calibration(cause);
             let twin = with_mass_share(&cal);
             assert_eq!(twin.priors.len(), cal.priors.len() + 1);

@@ -43,7 +43,7 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
             refine_walks: 1,
             damping_path: super::damping_path::DampingPathUse::Never,
         },
-        candidates: vec![Cause::None, Cause::PerimeterPounding],
+        candidates: vec![Cause::NONE, Cause::PERIMETER_POUNDING],
         linear_stage: false,
         evidence: Some(EvidencePolicy {
             smc: stats::evidence::SmcOptions { particles: 400, ..Default::default() },
@@ -166,7 +166,7 @@ fn farm_matches_threads_and_a_stopped_diagnosis_resumes_from_its_store() {
 fn a_point_repeated_in_a_batch_runs_once() {
     let dir = tempfile::tempdir().unwrap();
     let b = tiny_bundle(dir.path());
-    let priors = Cause::None.priors();
+    let priors = Cause::NONE.priors();
     let runs = [0usize];
     let ev = Evaluation::baseline(&b, &priors, &runs);
     let (p, q) = (vec![15.0, 0.05], vec![20.0, 0.04]);
@@ -185,11 +185,11 @@ fn a_point_repeated_in_a_batch_runs_once() {
 fn the_committed_share_reaches_the_farm() {
     let dir = tempfile::tempdir().unwrap();
     let b = tiny_bundle(dir.path());
-    let priors = Cause::PerimeterFriction.priors();
+    let priors = Cause::PERIMETER_FRICTION.priors();
     let runs = [0usize];
     let ev = Evaluation {
         bundle: &b,
-        cause: Cause::PerimeterFriction,
+        cause: Cause::PERIMETER_FRICTION,
         priors: &priors,
         runs: &runs,
         demand: None,
@@ -209,7 +209,7 @@ fn the_committed_share_reaches_the_farm() {
 fn the_mass_share_reaches_the_farm() {
     let dir = tempfile::tempdir().unwrap();
     let b = tiny_bundle(dir.path());
-    let mut priors = Cause::None.priors();
+    let mut priors = Cause::NONE.priors();
     priors.push(crate::diagnose::damping_share::MASS_SHARE);
     let runs = [0usize];
     let ev = Evaluation::baseline(&b, &priors, &runs);

@@ -111,7 +111,7 @@ impl<'a> Evaluation<'a> {
     /// The baseline with `priors` judged on `runs` (no demand, damped on
     /// the initial stiffness).
     pub fn baseline(bundle: &'a Bundle, priors: &'a [Prior], runs: &'a [usize]) -> Self {
-        Evaluation { bundle, cause: Cause::None, priors, runs, demand: None, committed_share: 0.0 }
+        Evaluation { bundle, cause: Cause::NONE, priors, runs, demand: None, committed_share: 0.0 }
     }
 }
 

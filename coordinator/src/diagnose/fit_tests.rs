@@ -36,7 +36,7 @@ fn a_disturbed_lead_in_does_not_count_against_a_models_prediction() {
     let truth = &d.candidates[1].validation_sims;
     let (_, d1) = b.runs[2].sensors.iter_mut().find(|(id, _)| id == "D1").unwrap();
     d1[..50].iter_mut().for_each(|v| *v += 0.1);
-    let priors = Cause::None.priors();
+    let priors = Cause::NONE.priors();
     let ev = Evaluation::baseline(&b, &priors, &[2]);
     let at = |fits: Vec<ChannelFit>| fits.into_iter().find(|c| c.sensor == "D1").unwrap();
     let (fitted, pre_event) = (at(ev.validation_channels(truth)), at(ev.channels(truth)));

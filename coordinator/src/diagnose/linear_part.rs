@@ -90,7 +90,7 @@ mod tests {
 
     #[test]
     fn the_nested_start_is_the_baseline_seen_through_the_extension() {
-        let c = Cause::ConnectionHysteresis;
+        let c = Cause::CONNECTION_HYSTERESIS;
         let priors = c.priors_on(&baseline_priors(&[], false));
         let ext = Calibration {
             cause: c,

@@ -247,7 +247,7 @@ mod tests {
     fn the_models_own_frequencies_fit_at_their_point() {
         let dir = tempfile::tempdir().unwrap();
         let mut b = crate::diagnose::farm_executor_tests::tiny_bundle(dir.path());
-        let priors = crate::diagnose::cause::Cause::None.priors();
+        let priors = crate::diagnose::cause::Cause::NONE.priors();
         let runs = [0usize];
         let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
         let own = Evaluation::baseline(&b, &priors, &runs).model_frequencies(&theta, 3).unwrap();

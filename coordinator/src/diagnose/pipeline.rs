@@ -11,7 +11,8 @@ use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
 use super::class_evidence::EvidencePolicy;
-use super::class_odds::{class_odds, ClassOdds};
+use super::class_odds::{class_odds, probabilities, ClassOdds};
+use super::class_search::{search_classes, Tried};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
 use super::ensemble;
@@ -352,6 +353,11 @@ pub fn diagnose_with(
             r.fe_points += o.as_ref().map_or(0, |o| o.evidence.fe_points);
             r.odds = Some(o);
         }
+        if opts.rule == VerdictRule::Evidence {
+            let after = After { b, runs, n_eff: (&n_eff0, &n_eff), held: &held, opts };
+            after.search_combined((policy, w), &mut v, &mut results, exec, progress)?;
+            excess_validation_errors(b, &val_runs, &mut results);
+        }
     }
     let by_evidence = match opts.rule {
         VerdictRule::Evidence => most_probable(&results),
@@ -406,6 +412,9 @@ struct Variants {
     /// On a double-layer ceiling, whether the baseline calibrates the
     /// carrying channels' mass.
     channels: Option<ChannelForm>,
+    /// What every extension is calibrated around: the baseline's estimate
+    /// (unit cube), its priors and its demand.
+    base: (Vec<f64>, Vec<Prior>, Demand),
 }
 
 impl Variants {
@@ -445,10 +454,15 @@ fn calibrate_variants(
     let base_u = base.points[base_best].u.clone();
     let base_priors = base.priors.clone();
     let demand = baseline_demand(b, &base, base_best, cal_runs, exec)?;
-    let mut v =
-        Variants { cals: vec![base], linear_parts: vec![None], base_best, channels: form.channels };
+    let mut v = Variants {
+        cals: vec![base],
+        linear_parts: vec![None],
+        base_best,
+        channels: form.channels,
+        base: (base_u.clone(), base_priors.clone(), demand),
+    };
     let boundary = b.manifest.structure.boundary;
-    let in_place = |c: &Cause| *c != Cause::None && c.has_place(boundary);
+    let in_place = |c: &Cause| *c != Cause::NONE && c.has_place(boundary);
     for c in opts.candidates.iter().copied().filter(in_place) {
         let stage = format!("calibrating {}", c.as_str());
         let rival = v.cals.iter().flat_map(|k| k.objective(n_eff0)).fold(f64::INFINITY, f64::min);
@@ -562,7 +576,7 @@ fn calibrate_baseline(
         let priors = baseline_priors(&b.linear_form, channels);
         let mut cal = calibrate(
             b,
-            (Cause::None, &priors),
+            (Cause::NONE, &priors),
             cal_runs,
             n_eff0,
             &opts.budget,
@@ -698,12 +712,15 @@ fn attach_posterior(
     Ok(())
 }
 
+/// The log-evidence of a candidate, when it has one.
+fn ln_evidence(r: &CandidateResult) -> Option<f64> {
+    r.odds.as_ref().and_then(|o| o.as_ref().ok()).map(|o| o.evidence.ln_evidence)
+}
+
 /// The candidate of highest evidence among those that have one (None:
 /// no candidate has).
 fn most_probable(results: &[CandidateResult]) -> Option<usize> {
-    let ln_z = |r: &CandidateResult| {
-        r.odds.as_ref().and_then(|o| o.as_ref().ok()).map(|o| o.evidence.ln_evidence)
-    };
+    let ln_z = ln_evidence;
     (0..results.len())
         .filter_map(|k| ln_z(&results[k]).map(|z| (k, z)))
         .max_by(|a, b| a.1.total_cmp(&b.1))
@@ -745,6 +762,71 @@ impl After<'_> {
         let mut r = assess(self.b, cal, self.n_eff.1, self.runs, self.held, exec)?;
         add_linear_part(&mut r, part, self.n_eff.1);
         Ok(r)
+    }
+
+    /// Under the evidence's verdict, the classes of several effects that the
+    /// forward–backward search ([`search_classes`]) reaches from those
+    /// already calibrated: each calibrated around the baseline as a single
+    /// effect is, assessed, and given its evidence (`policy`, weights `w`);
+    /// then every class's probability renormalised over all of them.
+    fn search_combined(
+        &self,
+        (policy, w): (&EvidencePolicy, ChannelWeights<'_>),
+        v: &mut Variants,
+        results: &mut Vec<CandidateResult>,
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+    ) -> Result<(), DiagnoseError> {
+        let (b, cal_runs, n_eff0) = (self.b, self.runs.0, self.n_eff.0);
+        let boundary = b.manifest.structure.boundary;
+        let allowed = |c: Cause| {
+            let listed = |k: usize| self.opts.candidates.contains(&Cause::single(k));
+            c.has_place(boundary) && c.indices().all(listed)
+        };
+        let mut tried: Tried = results.iter().map(|r| (r.cause, ln_evidence(r))).collect();
+        let mut try_class = |c: Cause| -> Result<Option<f64>, DiagnoseError> {
+            let stage = format!("calibrating {}", c.as_str());
+            let rival =
+                v.cals.iter().flat_map(|k| k.objective(n_eff0)).fold(f64::INFINITY, f64::min);
+            let (base_u, base_priors, demand) = &v.base;
+            let around = Around { base: base_u, demand: *demand, rival };
+            let cal = calibrate(
+                b,
+                (c, base_priors),
+                cal_runs,
+                n_eff0,
+                &self.opts.budget,
+                Some(around),
+                exec,
+                &mut |d, n| progress(&stage, d, n),
+            )?;
+            let mut r = self.assess(&cal, None, exec)?;
+            let stage = format!("class evidence of {}", c.as_str());
+            let odds = class_odds(
+                std::slice::from_ref(&cal),
+                (b, cal_runs),
+                w,
+                exec,
+                policy,
+                &mut |d, n| progress(&stage, d, n),
+            )?;
+            r.odds = odds.into_iter().next();
+            r.fe_points +=
+                r.odds.as_ref().and_then(|o| o.as_ref().ok()).map_or(0, |o| o.evidence.fe_points);
+            let z = ln_evidence(&r);
+            v.cals.push(cal);
+            v.linear_parts.push(None);
+            results.push(r);
+            Ok(z)
+        };
+        search_classes(&mut tried, &allowed, &mut try_class)?;
+        let ln_z: Vec<f64> = results.iter().map(|r| ln_evidence(r).unwrap_or(f64::NAN)).collect();
+        for (r, p) in results.iter_mut().zip(probabilities(&ln_z)) {
+            if let Some(Ok(o)) = &mut r.odds {
+                o.probability = p;
+            }
+        }
+        Ok(())
     }
 
     /// Refines the named extension ([`refine`]) and assesses it again; None
@@ -866,7 +948,7 @@ impl After<'_> {
 /// estimate over the candidates' residuals (the model that explains most
 /// leaves the cleanest view of the noise). Without simulations it stays NaN.
 fn excess_validation_errors(b: &Bundle, val_runs: &[usize], results: &mut [CandidateResult]) {
-    let priors = Cause::None.priors();
+    let priors = Cause::NONE.priors();
     let ev = Evaluation::baseline(b, &priors, val_runs);
     let fits: Vec<Option<Vec<ChannelFit>>> = results
         .iter()
@@ -927,7 +1009,7 @@ pub const MISFIT_NATS: f64 = 50.0;
 fn select(results: &[CandidateResult], allowance: f64) -> usize {
     let m = |k: usize| {
         let r = &results[k];
-        let lowered = if r.cause == Cause::None { allowance } else { 0.0 };
+        let lowered = if r.cause == Cause::NONE { allowance } else { 0.0 };
         r.contending_mdl().map_or(f64::INFINITY, |total| total - lowered)
     };
     let best = (0..results.len()).map(m).fold(f64::INFINITY, f64::min);
@@ -1085,7 +1167,7 @@ fn predict(
     exec: &mut dyn FeExecutor,
 ) -> Result<(Option<Vec<Simulated>>, usize), ExecutorError> {
     let n_base = cal.n_base();
-    let extension = cal.cause != Cause::None;
+    let extension = cal.cause != Cause::NONE;
     let own = |i: usize| extension && i >= n_base;
     let steps: Vec<f64> =
         (0..u.len()).map(|i| if own(i) { ensemble::difference_step(true) } else { 0.0 }).collect();
@@ -1129,8 +1211,8 @@ mod tests {
 
     #[test]
     fn the_lowest_mdl_wins_and_a_tie_keeps_the_simpler_model() {
-        let none = scored(Cause::None, -100.0, None);
-        let pound = |m| scored(Cause::PerimeterPounding, m, None);
+        let none = scored(Cause::NONE, -100.0, None);
+        let pound = |m| scored(Cause::PERIMETER_POUNDING, m, None);
         assert_eq!(select(&[none.clone(), pound(-130.0)], 0.0), 1);
         assert_eq!(select(&[none.clone(), pound(-100.0 - 0.5 * TIE_NATS)], 0.0), 0);
     }
@@ -1140,15 +1222,15 @@ mod tests {
     /// extension, 200 is a cause.
     #[test]
     fn the_verdict_needs_more_than_a_misfit_gives() {
-        let none = scored(Cause::None, -100.0, None);
-        let pound = |m| scored(Cause::PerimeterPounding, m, None);
+        let none = scored(Cause::NONE, -100.0, None);
+        let pound = |m| scored(Cause::PERIMETER_POUNDING, m, None);
         assert_eq!(select(&[none.clone(), pound(-130.0)], MISFIT_NATS), 0);
         assert_eq!(select(&[none.clone(), pound(-300.0)], MISFIT_NATS), 1);
         let edge = -100.0 - MISFIT_NATS;
         assert_eq!(select(&[none.clone(), pound(edge - 0.5 * TIE_NATS)], MISFIT_NATS), 0);
         assert_eq!(select(&[none.clone(), pound(edge - 2.0 * TIE_NATS)], MISFIT_NATS), 1);
         // Between extensions the lowest MDL still decides.
-        let fric = scored(Cause::PerimeterFriction, -260.0, None);
+        let fric = scored(Cause::PERIMETER_FRICTION, -260.0, None);
         assert_eq!(select(&[none, pound(-300.0), fric], MISFIT_NATS), 1);
     }
 
@@ -1158,14 +1240,14 @@ mod tests {
     /// its linear part it is chosen.
     #[test]
     fn an_extension_must_beat_its_linear_part() {
-        let none = scored(Cause::None, -100.0, None);
-        let hyst = |m, l| scored(Cause::ConnectionHysteresis, m, Some(l));
+        let none = scored(Cause::NONE, -100.0, None);
+        let hyst = |m, l| scored(Cause::CONNECTION_HYSTERESIS, m, Some(l));
         assert_eq!(select(&[none.clone(), hyst(-127.0, -130.0)], 0.0), 0);
         let at = -127.0 + 0.5 * LINEAR_PART_NATS;
         assert_eq!(select(&[none.clone(), hyst(-127.0, at)], 0.0), 0);
         assert_eq!(select(&[none.clone(), hyst(-140.0, -130.0)], 0.0), 1);
         // Out of the running, it does not stop another extension either.
-        let pound = scored(Cause::PerimeterPounding, -120.0, None);
+        let pound = scored(Cause::PERIMETER_POUNDING, -120.0, None);
         assert_eq!(select(&[none, pound, hyst(-127.0, -130.0)], 0.0), 1);
     }
 
@@ -1190,9 +1272,9 @@ mod tests {
             CandidateResult { odds, ..CandidateResult::unassessed(cause, None) }
         };
         let mut r = vec![
-            with(Cause::None, Some(-10.0)),
-            with(Cause::PerimeterPounding, Some(-3.0)),
-            with(Cause::PerimeterFriction, None),
+            with(Cause::NONE, Some(-10.0)),
+            with(Cause::PERIMETER_POUNDING, Some(-3.0)),
+            with(Cause::PERIMETER_FRICTION, None),
         ];
         assert_eq!(most_probable(&r), Some(1));
         r[1].odds = Some(Err("every FE check failed".into()));

@@ -340,7 +340,7 @@ mod tests {
             modal: None,
         };
         Calibration {
-            cause: Cause::None,
+            cause: Cause::NONE,
             priors: PRIORS.to_vec(),
             free: vec![0, 1],
             points: us.iter().map(point).collect(),

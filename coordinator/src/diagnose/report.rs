@@ -351,13 +351,13 @@ fn linear_part_notes(d: &Diagnosis) -> Vec<Block> {
 /// by less than [`MISFIT_NATS`].
 fn misfit_note(d: &Diagnosis) -> Option<Block> {
     let base = d.candidates.first()?.mdl.as_ref()?.total;
-    if d.cause != Cause::None {
+    if d.cause != Cause::NONE {
         return None;
     }
     let (c, total) = d
         .candidates
         .iter()
-        .filter(|c| c.cause != Cause::None)
+        .filter(|c| c.cause != Cause::NONE)
         .filter_map(|c| Some((c, c.contending_mdl()?)))
         .min_by(|a, b| a.1.total_cmp(&b.1))?;
     (base - total > TIE_NATS).then(|| Block::Note {
@@ -684,7 +684,7 @@ mod tests {
         assert!(text.starts_with("perimeter-pounding's MDL is 30.0 nats below"), "{text}");
         d.candidates[1].mdl = Some(mdl(-100.5));
         assert!(misfit_note(&d).is_none(), "a tie needs no word");
-        d.cause = Cause::PerimeterPounding;
+        d.cause = Cause::PERIMETER_POUNDING;
         d.candidates[1].mdl = Some(mdl(-300.0));
         assert!(misfit_note(&d).is_none(), "an extension named");
     }

@@ -143,15 +143,15 @@ mod tests {
         d.candidates = vec![
             CandidateResult {
                 odds: Some(Ok(odds(100.0, 0.0))),
-                ..CandidateResult::unassessed(Cause::None, None)
+                ..CandidateResult::unassessed(Cause::NONE, None)
             },
             CandidateResult {
                 odds: Some(Ok(odds(130.0, 1.0))),
-                ..CandidateResult::unassessed(Cause::PerimeterPounding, None)
+                ..CandidateResult::unassessed(Cause::PERIMETER_POUNDING, None)
             },
             CandidateResult {
                 odds: Some(Err("no Gauss–Newton matrix".into())),
-                ..CandidateResult::unassessed(Cause::PerimeterFriction, None)
+                ..CandidateResult::unassessed(Cause::PERIMETER_FRICTION, None)
             },
         ];
         let s = evidence_section(&d).expect("asked for");

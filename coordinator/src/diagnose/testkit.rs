@@ -225,10 +225,10 @@ fn sdof_diagnosis(
     };
     Diagnosis {
         bundle: "sdof-campaign".into(),
-        cause: if pounding { Cause::PerimeterPounding } else { Cause::None },
+        cause: if pounding { Cause::PERIMETER_POUNDING } else { Cause::NONE },
         candidates: vec![
-            candidate(Cause::None, base, !pounding),
-            candidate(Cause::PerimeterPounding, ext, pounding),
+            candidate(Cause::NONE, base, !pounding),
+            candidate(Cause::PERIMETER_POUNDING, ext, pounding),
         ],
         calibration_runs: vec![0, 1],
         validation_runs: vec![2],

@@ -23,8 +23,8 @@ pub const FAR_BETTER: f64 = 0.5;
 /// closed the gaps in y, the validation sweep in x barely reaches them),
 /// so the gain cannot measure the extension.
 pub fn unexercised_note(d: &Diagnosis) -> Option<Block> {
-    let base = d.candidates.iter().find(|c| c.cause == Cause::None)?;
-    let named = d.candidates.iter().find(|c| c.cause == d.cause && c.cause != Cause::None)?;
+    let base = d.candidates.iter().find(|c| c.cause == Cause::NONE)?;
+    let named = d.candidates.iter().find(|c| c.cause == d.cause && c.cause != Cause::NONE)?;
     let (bc, nc) = (base.calibration_excess_error, named.calibration_excess_error);
     let (bv, nv) = (d.baseline_validation_error, d.extended_validation_error);
     let alike = nv <= bv && d.gain < ALIKE_GAIN;
@@ -61,10 +61,10 @@ pub const UNEXPLAINED_FLOOR: f64 = 0.03;
 /// validation runs far more than the calibration runs: `none` is the
 /// verdict of the calibration runs, and the validation runs contradict it.
 pub fn unexplained_note(d: &Diagnosis) -> Option<Block> {
-    let base = d.candidates.iter().find(|c| c.cause == Cause::None)?;
+    let base = d.candidates.iter().find(|c| c.cause == Cause::NONE)?;
     let (val, cal) = (base.validation_error, base.calibration_excess_error);
     let far = val > UNEXPLAINED_FLOOR && val > UNEXPLAINED_RATIO * cal.max(0.0);
-    (d.cause == Cause::None && val.is_finite() && cal.is_finite() && far).then(|| Block::Note {
+    (d.cause == Cause::NONE && val.is_finite() && cal.is_finite() && far).then(|| Block::Note {
         kind: NoteKind::Warning,
         text: format!(
             "No extension earns its complexity on the calibration runs, yet the baseline \
@@ -123,8 +123,8 @@ mod tests {
             let c = d.candidates.iter_mut().find(|c| c.cause == cause).unwrap();
             c.calibration_excess_error = cal;
         };
-        set(&mut d, Cause::None, 0.246);
-        set(&mut d, Cause::PerimeterPounding, 0.043);
+        set(&mut d, Cause::NONE, 0.246);
+        set(&mut d, Cause::PERIMETER_POUNDING, 0.043);
         (d.baseline_validation_error, d.extended_validation_error) = (0.0293, 0.0291);
         d.gain = 1.0 - 0.0291 / 0.0293;
         let text = warning_text(unexercised_note(&d)).expect("an unexercised extension");
@@ -135,21 +135,21 @@ mod tests {
         d.gain = 1.0 - 0.01 / 0.0293;
         assert_eq!(warning_text(unexercised_note(&d)), None, "a gain of 0.66");
         (d.extended_validation_error, d.gain) = (0.0291, 0.007);
-        set(&mut d, Cause::PerimeterPounding, 0.2);
+        set(&mut d, Cause::PERIMETER_POUNDING, 0.2);
         assert_eq!(warning_text(unexercised_note(&d)), None, "0.2 against 0.246");
-        set(&mut d, Cause::PerimeterPounding, 0.043);
+        set(&mut d, Cause::PERIMETER_POUNDING, 0.043);
         (d.extended_validation_error, d.gain) = (0.0300, -0.024);
         assert_eq!(warning_text(unexercised_note(&d)), None, "a worse prediction");
-        d.cause = Cause::None;
+        d.cause = Cause::NONE;
         assert_eq!(warning_text(unexercised_note(&d)), None, "the baseline named");
     }
 
     #[test]
     fn a_baseline_the_validation_runs_contradict_is_flagged() {
         let (_, mut d) = pounding_diagnosis(true, true);
-        d.cause = Cause::None;
+        d.cause = Cause::NONE;
         let set = |d: &mut Diagnosis, cal: f64, val: f64| {
-            let base = d.candidates.iter_mut().find(|c| c.cause == Cause::None).unwrap();
+            let base = d.candidates.iter_mut().find(|c| c.cause == Cause::NONE).unwrap();
             (base.calibration_excess_error, base.validation_error) = (cal, val);
         };
         set(&mut d, 0.01, 0.097);
@@ -163,7 +163,7 @@ mod tests {
         set(&mut d, f64::NAN, 0.2);
         assert_eq!(warning_text(unexplained_note(&d)), None, "no calibration error");
         set(&mut d, 0.01, 0.097);
-        d.cause = Cause::PerimeterPounding;
+        d.cause = Cause::PERIMETER_POUNDING;
         assert_eq!(warning_text(unexplained_note(&d)), None, "an extension named");
     }
 }

@@ -77,7 +77,7 @@ pub enum Simulator<'a> {
 #[derive(Debug, thiserror::Error)]
 pub enum SynthError {
     /// `hidden.effect` is not a known cause.
-    #[error("hidden.effect = {0:?}: expected none, perimeter-pounding, perimeter-friction or connection-hysteresis")]
+    #[error("hidden.effect = {0:?}: expected none, or perimeter-pounding, perimeter-friction and connection-hysteresis, each at most once, joined by +")]
     Effect(String),
     /// The hidden effect cannot act on this perimeter.
     #[error("hidden.effect = {effect:?}: no grid end can slide on a {boundary:?} perimeter; expected none or connection-hysteresis")]
@@ -163,7 +163,7 @@ pub fn synthesize_with(
 /// The hidden effect of `hidden.effect`, refused where it has no place on the perimeter.
 fn hidden_cause(spec: &SynthSpec) -> Result<Cause, SynthError> {
     let cause = match spec.hidden.effect.as_deref() {
-        None => Cause::None,
+        None => Cause::NONE,
         Some(e) => Cause::parse(e).ok_or_else(|| SynthError::Effect(e.into()))?,
     };
     let boundary = spec.structure.boundary;
@@ -203,11 +203,11 @@ fn effect_demand(
 ) -> Result<Option<[f64; 3]>, SynthError> {
     let needs_demand =
         cause.model_parameter_names().iter().any(|p| !spec.hidden.parameters.contains_key(*p));
-    if cause == Cause::None || !needs_demand {
+    if cause == Cause::NONE || !needs_demand {
         return Ok(None);
     }
     observer("baseline runs to size the hidden effect");
-    let baseline = fe_spec(&spec.structure, Cause::None.model_options())?;
+    let baseline = fe_spec(&spec.structure, Cause::NONE.model_options())?;
     let p = shared_parameters(&baseline, params)?;
     Ok(Some(baseline_demand(spec, &baseline, &p, base_inputs)?))
 }
@@ -315,9 +315,9 @@ fn effect_values(
     let gap_mm = spec.structure.nominal_gap_mm.unwrap_or(0.0).max(1e-9);
     let mut out = BTreeMap::new();
     for name in cause.model_parameter_names() {
-        let v = match spec.hidden.parameters.get(*name) {
+        let v = match spec.hidden.parameters.get(name) {
             Some(v) => *v,
-            None => match *name {
+            None => match name {
                 "gap_ratio" => pick(0.85, 0.6, 0.4) * d[0] / gap_mm,
                 "friction_fy_N" => pick(0.7, 0.4, 0.2) * d[1],
                 _ => d[2] / (pick(1.5, 4.0, 8.0) * CJS_A_FIRST_FORCE_N),

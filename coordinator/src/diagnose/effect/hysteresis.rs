@@ -1,0 +1,134 @@
+//! Connection hysteresis: the grid connections soften, yield and pinch (the
+//! tee joints' axial spring a scaled CJS-A Pinching4).
+
+use super::{Effect, FLOOR};
+use crate::diagnose::cause::{Demand, LinearPart, Prior};
+use fe::generator::{Boundary, Connections, ModelOptions};
+
+/// Nonlinear, softening and pinching grid connections.
+pub struct ConnectionHysteresis;
+
+/// First backbone force of the seed's CJS-A connection (N).
+pub const CJS_A_FIRST_FORCE_N: f64 = 150.0;
+
+/// Initial stiffness of the unscaled CJS-A backbone (N/mm): 150 N at 0.5 mm.
+const CJS_A_INITIAL_N_PER_MM: f64 = 300.0;
+
+/// CJS-A first backbone force over the baseline's peak connection force,
+/// its initial stiffness over the baseline's elastic K_cc1 (1 and a first
+/// force above the demand: the baseline again), and the pinching: Pinching4's
+/// reloading force over the force at the largest past deformation (CJS-A:
+/// 0.2; fuller loops above). The pinching is explored from the start, not
+/// held at CJS-A's: a connection with fuller loops seen through CJS-A's
+/// pinching is best fitted as one that never yields, where the pinching has
+/// no gradient left to follow. The unloading force (Pinching4 uForce, as a
+/// shift from CJS-A's −0.01; Table 5.5's connection kinds span −0.3 to
+/// −0.01) is held at CJS-A's until the estimate has converged, then freed
+/// in a last local search ([`Effect::late_parameters`]): connections whose unloading keeps a tenth of their
+/// strength (uForce 0.1), seen through CJS-A's, were fitted with a first
+/// force half the true one, and the stronger validation run drove them past
+/// their backbone's peak (gain −8.9 on such an OpenSees campaign; 0.97 with
+/// it freed, uForce found 0.096). Explored from the start, it left a six-dimensional
+/// design too sparse to find the valley (gain −2.3).
+const PRIORS: [Prior; 4] = [
+    Prior { name: "yield_over_demand", unit: "-", low: 0.1, high: 1.5, log: true, reference: None },
+    Prior {
+        name: "conn_stiffness_factor",
+        unit: "-",
+        low: 0.2,
+        high: 5.0,
+        log: true,
+        reference: None,
+    },
+    Prior {
+        name: "conn_reload_force",
+        unit: "-",
+        low: 0.05,
+        high: 0.8,
+        log: false,
+        reference: None,
+    },
+    Prior {
+        name: "conn_unload_shift",
+        unit: "-",
+        low: -0.3,
+        high: 0.3,
+        log: false,
+        reference: Some(0.0),
+    },
+];
+
+impl Effect for ConnectionHysteresis {
+    fn name(&self) -> &'static str {
+        "connection-hysteresis"
+    }
+
+    fn explain(&self) -> &'static str {
+        "the grid connections soften, yield and pinch"
+    }
+
+    fn priors(&self) -> &'static [Prior] {
+        &PRIORS
+    }
+
+    fn onset(&self) -> &'static str {
+        "yield_over_demand"
+    }
+
+    fn add_to(&self, o: ModelOptions) -> ModelOptions {
+        ModelOptions { connections: Connections::Pinching4, ..o }
+    }
+
+    fn model_parameter_names(&self) -> &'static [&'static str] {
+        &["conn_force_scale", "conn_disp_scale"]
+    }
+
+    fn model_parameters(
+        &self,
+        name: &str,
+        value: f64,
+        other: &[(&str, f64)],
+        demand: &Demand,
+    ) -> Option<Vec<(&'static str, f64)>> {
+        let of = |n: &str| other.iter().find(|(m, _)| *m == n).map(|(_, v)| *v);
+        match name {
+            "yield_over_demand" => {
+                let force = (value * demand.connection_n / CJS_A_FIRST_FORCE_N).max(FLOOR);
+                let k = of("conn_stiffness_factor").unwrap_or(1.0);
+                let k_cc1 = of("K_cc1").unwrap_or_else(|| {
+                    fe::generator::param_info("K_cc1").map_or(800.0, |p| p.midpoint())
+                });
+                let disp = force * CJS_A_INITIAL_N_PER_MM / (k * k_cc1);
+                Some(vec![("conn_force_scale", force), ("conn_disp_scale", disp)])
+            }
+            // Acts through the yield force's displacement scale above.
+            "conn_stiffness_factor" => Some(vec![]),
+            "conn_reload_force" => Some(vec![("conn_reload_force", value)]),
+            "conn_unload_shift" => Some(vec![("conn_unload_shift", value)]),
+            _ => None,
+        }
+    }
+
+    /// Freed in the main local search, the unloading force left its six
+    /// dimensions too few steps: a weak hysteresis campaign fell back to
+    /// `none`, a strong one gained −0.06.
+    fn late_parameters(&self) -> &'static [&'static str] {
+        &["conn_unload_shift"]
+    }
+
+    fn linear_part(&self) -> Option<LinearPart> {
+        Some(LinearPart {
+            onset: self.onset(),
+            linear: &["conn_stiffness_factor"],
+            nesting: &[1.0],
+        })
+    }
+
+    fn has_place(&self, _boundary: Boundary) -> bool {
+        true
+    }
+
+    fn damped_nonlinear_springs(&self) -> bool {
+        true
+    }
+}
