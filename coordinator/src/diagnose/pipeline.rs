@@ -337,42 +337,25 @@ pub fn diagnose_with(
             excess_validation_errors(b, &val_runs, &mut results);
         }
     }
+    // The evidence before any posterior: a class's evidence must not
+    // depend on which class another rule named (the posterior's FE checks
+    // join its calibration's points).
+    if let Some(policy) = &opts.evidence {
+        let after = After { b, runs, n_eff: (&n_eff0, &n_eff), held: &held, opts };
+        after.weigh_classes(policy, &mut v, &mut results, exec, progress)?;
+        excess_validation_errors(b, &val_runs, &mut results);
+    }
+    let by_evidence = match opts.rule {
+        VerdictRule::Evidence => most_probable(&results),
+        VerdictRule::Mdl => None,
+    };
+    let pick = by_evidence.unwrap_or(pick);
     results[pick].selected = true;
     progress("posterior (BBVI, checked by FE runs)", 0, 1);
     let check = (opts.budget.seed, check_rounds(campaign_work(b, &cal_runs)));
     let data = (b, &cal_runs[..]);
     attach_posterior(&mut v.cals[pick], &mut results[pick], data, &n_eff, check, exec)?;
     progress("posterior (BBVI, checked by FE runs)", 1, 1);
-    if let Some(policy) = &opts.evidence {
-        let stage = "class evidence (tempered SMC, checked by FE runs)";
-        let mut report = |done, planned| progress(stage, done, planned);
-        let band_dof = v.baseline_band_dof()?;
-        let w = ChannelWeights { n_eff: &n_eff, band_dof: &band_dof };
-        let odds = class_odds(&v.cals, (b, &cal_runs), w, exec, policy, &mut report)?;
-        for (r, o) in results.iter_mut().zip(odds) {
-            r.fe_points += o.as_ref().map_or(0, |o| o.evidence.fe_points);
-            r.odds = Some(o);
-        }
-        if opts.rule == VerdictRule::Evidence {
-            let after = After { b, runs, n_eff: (&n_eff0, &n_eff), held: &held, opts };
-            after.search_combined((policy, w), &mut v, &mut results, exec, progress)?;
-            excess_validation_errors(b, &val_runs, &mut results);
-        }
-    }
-    let by_evidence = match opts.rule {
-        VerdictRule::Evidence => most_probable(&results),
-        VerdictRule::Mdl => None,
-    };
-    let pick = match by_evidence {
-        Some(k) if k != pick => {
-            results[pick].selected = false;
-            results[pick].posterior = None;
-            results[k].selected = true;
-            attach_posterior(&mut v.cals[k], &mut results[k], data, &n_eff, check, exec)?;
-            k
-        }
-        _ => pick,
-    };
     let mut d = conclude(b, results, pick, (cal_runs, val_runs));
     d.rule = if by_evidence.is_some() { VerdictRule::Evidence } else { VerdictRule::Mdl };
     d.channels = v.channels;
@@ -762,6 +745,33 @@ impl After<'_> {
         let mut r = assess(self.b, cal, self.n_eff.1, self.runs, self.held, exec)?;
         add_linear_part(&mut r, part, self.n_eff.1);
         Ok(r)
+    }
+
+    /// Every calibrated class's evidence and probability by `policy`
+    /// ([`class_odds`]); under the evidence's verdict, then the classes of
+    /// several effects ([`After::search_combined`]).
+    fn weigh_classes(
+        &self,
+        policy: &EvidencePolicy,
+        v: &mut Variants,
+        results: &mut Vec<CandidateResult>,
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+    ) -> Result<(), DiagnoseError> {
+        let stage = "class evidence (tempered SMC, checked by FE runs)";
+        let mut report = |done, planned| progress(stage, done, planned);
+        let band_dof = v.baseline_band_dof()?;
+        let w = ChannelWeights { n_eff: self.n_eff.1, band_dof: &band_dof };
+        let data = (self.b, self.runs.0);
+        let odds = class_odds(&v.cals, data, w, exec, policy, &mut report)?;
+        for (r, o) in results.iter_mut().zip(odds) {
+            r.fe_points += o.as_ref().map_or(0, |o| o.evidence.fe_points);
+            r.odds = Some(o);
+        }
+        if self.opts.rule == VerdictRule::Evidence {
+            self.search_combined((policy, w), v, results, exec, progress)?;
+        }
+        Ok(())
     }
 
     /// Under the evidence's verdict, the classes of several effects that the

@@ -245,6 +245,10 @@ pub struct VerdictJson {
     /// The cause named: a candidate's, or `unexplained` when the data show
     /// something no model explains ([`UnexplainedJson`]).
     pub cause: String,
+    /// The effects of the class named, in the registry's order (empty for
+    /// `none` and for `unexplained`; an extra field, which the format
+    /// allows): `cause` is them joined by `+`.
+    pub causes: Vec<&'static str>,
     /// The rule that named it when not the MDL's: `evidence` (the class of
     /// highest posterior probability; an extra field, which the format
     /// allows).
@@ -375,6 +379,10 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
         format: FORMAT.into(),
         bundle: d.bundle.clone(),
         cause: if d.unexplained.is_some() { UNEXPLAINED.into() } else { d.cause.as_str().into() },
+        causes: match d.unexplained {
+            Some(_) => vec![],
+            None => d.cause.effects().map(|e| e.name()).collect(),
+        },
         verdict_rule: (d.rule != VerdictRule::Mdl).then_some(d.rule.as_str()),
         unexplained: d.unexplained.as_ref().map(|u| UnexplainedJson {
             model: d.cause.as_str().into(),
@@ -438,6 +446,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::diagnose::cause::Cause;
     use crate::diagnose::evidence::evidence;
     use crate::diagnose::testkit::pounding_diagnosis;
 
@@ -460,5 +469,26 @@ mod tests {
         assert_eq!(why.len(), 3);
         assert!(why[0].as_str().unwrap().starts_with("measured: no displacement sensor"), "{s}");
         assert!(row("residual_energy_db")["measured"].is_null());
+    }
+
+    #[test]
+    fn causes_list_the_named_class_effects_and_join_into_cause() {
+        let (b, mut d) = pounding_diagnosis(true, false);
+        let ids: Vec<String> = b.runs.iter().map(|r| r.id.clone()).collect();
+        for (cause, want) in [
+            (Cause::NONE, vec![]),
+            (Cause::PERIMETER_POUNDING, vec!["perimeter-pounding"]),
+            (
+                Cause::PERIMETER_FRICTION.with(0).with(2),
+                vec!["perimeter-pounding", "perimeter-friction", "connection-hysteresis"],
+            ),
+        ] {
+            d.cause = cause;
+            d.unexplained = None;
+            let v = verdict(&d, &ids);
+            assert_eq!(v.causes, want);
+            let joined = if want.is_empty() { "none".to_string() } else { want.join("+") };
+            assert_eq!(v.cause, joined);
+        }
     }
 }
