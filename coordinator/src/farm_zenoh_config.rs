@@ -135,7 +135,7 @@ pub fn worker_config(ca_pem: &str, id: &Identity, connect: &str) -> String {
 #[cfg(all(test, feature = "zenoh"))]
 mod tests {
     use super::*;
-    use crate::farm_certs::LabCa;
+    use crate::farm_certs::{LabCa, Validity};
     use protocol::zenoh_config::{session_config, Role, ZenohSecurity};
 
     fn file(path: &std::path::Path) -> ZenohSecurity {
@@ -144,9 +144,10 @@ mod tests {
 
     #[test]
     fn zenoh_reads_both_configurations_with_mtls_and_a_default_deny() {
-        let ca = LabCa::new("test CA").unwrap();
-        let c = ca.issue("ceilfarm-coordinator", &["localhost".into()]).unwrap();
-        let w = ca.issue("ceilfarm-worker-1", &[]).unwrap();
+        let v = Validity::from_now(1);
+        let ca = LabCa::new("test CA", &v).unwrap();
+        let c = ca.issue("ceilfarm-coordinator", &["localhost".into()], &v).unwrap();
+        let w = ca.issue("ceilfarm-worker-1", &[], &v).unwrap();
         let workers = vec![w.common_name.clone()];
         let dir = tempfile::tempdir().unwrap();
         let cfile = dir.path().join("c.json5");

@@ -3,7 +3,8 @@
 //! written with the zenoh crate:
 //!
 //! - no credentials (plain TCP), no client certificate, a certificate of
-//!   another CA: the connection is refused;
+//!   another CA, a listed worker's certificate of the lab's CA that has
+//!   expired: the connection is refused;
 //! - a certificate of the lab's CA whose common name the access control
 //!   does not list: connected, but it receives no Welcome, no task query
 //!   and nothing its fake Welcome, liveliness tokens, oversized Hellos or
@@ -22,7 +23,7 @@
 //! The sweep completes with no failed or re-issued task and its export is
 //! byte-identical to an unattacked in-process run.
 
-use coordinator::farm_certs::{Identity, LabCa, COORDINATOR_NAME};
+use coordinator::farm_certs::{Identity, LabCa, Validity, COORDINATOR_NAME};
 use coordinator::farm_zenoh_config::{coordinator_config, worker_config};
 use protocol::seal::{Direction, SweepKey, SweepMac, KEY_BYTES};
 use protocol::{codec, FromWorker, Outcome, Outputs, TaskId, TaskResult};
@@ -340,7 +341,11 @@ fn hello_probe(session: zenoh::Session, seen: Arc<Impersonation>, stop: Arc<Atom
 }
 
 fn config_of(ca: &LabCa, common_name: &str, connect: &str) -> String {
-    let id: Identity = ca.issue(common_name, &[]).unwrap();
+    valid_config_of(ca, common_name, connect, &Validity::from_now(1))
+}
+
+fn valid_config_of(ca: &LabCa, common_name: &str, connect: &str, validity: &Validity) -> String {
+    let id: Identity = ca.issue(common_name, &[], validity).unwrap();
     worker_config(ca.cert_pem(), &id, connect)
 }
 
@@ -357,9 +362,10 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
 
     let port = free_port();
     let tls = format!("tls/127.0.0.1:{port}");
-    let lab = LabCa::new("test lab CA").unwrap();
+    let today = Validity::from_now(1);
+    let lab = LabCa::new("test lab CA", &today).unwrap();
     let hosts = vec!["127.0.0.1".to_string(), "localhost".to_string()];
-    let coordinator = lab.issue(COORDINATOR_NAME, &hosts).unwrap();
+    let coordinator = lab.issue(COORDINATOR_NAME, &hosts, &today).unwrap();
     let listed: Vec<String> = (1..=4).map(|k| format!("ceilfarm-worker-{k}")).collect();
     let ccfg = coordinator_config(lab.cert_pem(), &coordinator, &tls, &listed);
     let ccfg = write(d, "coordinator.json5", &ccfg);
@@ -369,7 +375,11 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let probe = config_of(&lab, "ceilfarm-worker-4", &tls);
     let unlisted = config_of(&lab, "ceilfarm-visitor", &tls);
     // Another CA's certificate bearing a listed worker's name.
-    let wrong_ca = config_of(&LabCa::new("another CA").unwrap(), "ceilfarm-worker-1", &tls);
+    let wrong_ca = config_of(&LabCa::new("another CA", &today).unwrap(), "ceilfarm-worker-1", &tls);
+    // A listed worker's certificate of the lab's CA, valid for a day a month ago.
+    let month_ago = std::time::SystemTime::now() - Duration::from_secs(30 * 86_400);
+    let lapsed = Validity { start: month_ago, days: 1 };
+    let expired = valid_config_of(&lab, "ceilfarm-worker-1", &tls, &lapsed);
 
     let store = d.join("attacked.db");
     let coordinator = Kill(
@@ -394,6 +404,7 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     );
     assert!(client(&no_cert, &tls).is_err(), "connected without a client certificate");
     assert!(client(&wrong_ca, &tls).is_err(), "a certificate of another CA connected");
+    assert!(client(&expired, &tls).is_err(), "an expired certificate connected");
 
     // Connected attackers: one unlisted, one listed without the key.
     let stop = Arc::new(AtomicBool::new(false));
