@@ -5,9 +5,14 @@
 //! common name, which the coordinator's access control lists. The CA's
 //! private key is never written: to add workers, make the set again.
 //!
-//! Keys are ECDSA P-256 (rcgen's default); certificates carry no expiry
-//! date of their own (rcgen's default validity), so a lab revokes them by
-//! making a new set.
+//! Keys are ECDSA P-256 (rcgen's default). Every certificate of a set, the
+//! CA's too, is valid for `--days` days from its making
+//! ([`DEFAULT_VALIDITY_DAYS`]; a day earlier too, for clocks running
+//! behind): the CA's key is gone once the set is written, so it signs
+//! nothing later. zenoh's TLS refuses an expired certificate at the
+//! handshake and, as the coordinator's configuration asks
+//! (`close_link_on_expiration`), closes a link when its certificate
+//! expires. A lab revokes certificates early by making a new set.
 
 use crate::farm_zenoh_config::{coordinator_config, worker_config};
 use rcgen::{
@@ -21,6 +26,16 @@ pub const COORDINATOR_NAME: &str = "ceilfarm-coordinator";
 
 /// Most worker certificates one set holds.
 pub const MAX_WORKERS: usize = 1000;
+
+/// Days a set's certificates are valid when `--days` is not given.
+pub const DEFAULT_VALIDITY_DAYS: u32 = 365;
+
+/// Longest validity `--days` accepts (ten years), in days.
+pub const MAX_VALIDITY_DAYS: u32 = 3650;
+
+/// How long before its making a certificate is valid already (clocks
+/// running behind), in seconds.
+const CLOCK_GRACE_S: i64 = 24 * 3600;
 
 /// Why a lab's certificates could not be made or written.
 #[derive(Debug, thiserror::Error)]
@@ -50,6 +65,37 @@ pub enum CertsError {
     /// The worker count is out of range.
     #[error("--workers {0}: expected 1 to {MAX_WORKERS}")]
     Workers(usize),
+    /// The validity is out of range.
+    #[error("--days {0}: expected 1 to {MAX_VALIDITY_DAYS}")]
+    Days(u32),
+}
+
+/// When a certificate is valid: from a day before `start` to `days` days
+/// after it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Validity {
+    /// When the set is made.
+    pub start: std::time::SystemTime,
+    /// Days it stays valid after `start`.
+    pub days: u32,
+}
+
+impl Validity {
+    /// `days` days from now.
+    pub fn from_now(days: u32) -> Self {
+        Self { start: std::time::SystemTime::now(), days }
+    }
+
+    /// rcgen's (not before, not after).
+    fn window(&self) -> (time::OffsetDateTime, time::OffsetDateTime) {
+        let start = time::OffsetDateTime::from(self.start);
+        let not_before = start - time::Duration::seconds(CLOCK_GRACE_S);
+        (not_before, start + time::Duration::days(i64::from(self.days)))
+    }
+
+    fn set(&self, params: &mut CertificateParams) {
+        (params.not_before, params.not_after) = self.window();
+    }
 }
 
 /// A certificate and its private key, both PEM.
@@ -74,10 +120,11 @@ fn rcgen_err(name: &str) -> impl FnOnce(rcgen::Error) -> CertsError + '_ {
 }
 
 impl LabCa {
-    /// A new CA named `name` with a fresh key.
-    pub fn new(name: &str) -> Result<Self, CertsError> {
+    /// A new CA named `name` with a fresh key, valid over `validity`.
+    pub fn new(name: &str, validity: &Validity) -> Result<Self, CertsError> {
         let key = KeyPair::generate().map_err(rcgen_err(name))?;
         let mut params = CertificateParams::new(Vec::<String>::new()).map_err(rcgen_err(name))?;
+        validity.set(&mut params);
         params.distinguished_name.push(DnType::CommonName, name);
         params.is_ca = IsCa::Ca(BasicConstraints::Constrained(0));
         params.key_usages = vec![KeyUsagePurpose::KeyCertSign, KeyUsagePurpose::CrlSign];
@@ -90,12 +137,19 @@ impl LabCa {
         &self.pem
     }
 
-    /// A certificate for `common_name`, valid for the host names and IP
-    /// addresses in `hosts` (none for a worker, which only connects).
-    pub fn issue(&self, common_name: &str, hosts: &[String]) -> Result<Identity, CertsError> {
+    /// A certificate for `common_name`, valid over `validity` for the host
+    /// names and IP addresses in `hosts` (none for a worker, which only
+    /// connects).
+    pub fn issue(
+        &self,
+        common_name: &str,
+        hosts: &[String],
+        validity: &Validity,
+    ) -> Result<Identity, CertsError> {
         let err = rcgen_err(common_name);
         let key = KeyPair::generate().map_err(rcgen_err(common_name))?;
         let mut params = CertificateParams::new(hosts.to_vec()).map_err(err)?;
+        validity.set(&mut params);
         params.distinguished_name.push(DnType::CommonName, common_name);
         params.key_usages = vec![KeyUsagePurpose::DigitalSignature];
         params.extended_key_usages =
@@ -118,6 +172,9 @@ pub struct LabSettings {
     pub hosts: Vec<String>,
     /// The coordinator's TCP port.
     pub port: u16,
+    /// Days the certificates are valid (`--days`, default
+    /// [`DEFAULT_VALIDITY_DAYS`]).
+    pub validity_days: u32,
 }
 
 /// Common name of worker `k` (from 1).
@@ -132,8 +189,12 @@ pub fn write_lab(out: &Path, s: &LabSettings) -> Result<Vec<PathBuf>, CertsError
     if s.workers == 0 || s.workers > MAX_WORKERS {
         return Err(CertsError::Workers(s.workers));
     }
-    let ca = LabCa::new("ceilfarm lab CA")?;
-    let coordinator = ca.issue(COORDINATOR_NAME, &s.hosts)?;
+    if s.validity_days == 0 || s.validity_days > MAX_VALIDITY_DAYS {
+        return Err(CertsError::Days(s.validity_days));
+    }
+    let validity = Validity::from_now(s.validity_days);
+    let ca = LabCa::new("ceilfarm lab CA", &validity)?;
+    let coordinator = ca.issue(COORDINATOR_NAME, &s.hosts, &validity)?;
     let names: Vec<String> = (1..=s.workers).map(worker_name).collect();
     let host = s.hosts.first().map_or("127.0.0.1", String::as_str);
     let mut files = vec![
@@ -150,7 +211,7 @@ pub fn write_lab(out: &Path, s: &LabSettings) -> Result<Vec<PathBuf>, CertsError
     ];
     let connect = format!("tls/{}:{}", bracket_ipv6(host), s.port);
     for (k, name) in names.iter().enumerate() {
-        let id = ca.issue(name, &[])?;
+        let id = ca.issue(name, &[], &validity)?;
         files
             .push((format!("worker-{}.json5", k + 1), worker_config(ca.cert_pem(), &id, &connect)));
     }
@@ -190,7 +251,12 @@ mod tests {
     #[test]
     fn a_set_holds_the_ca_the_coordinator_and_each_worker_once() {
         let dir = tempfile::tempdir().unwrap();
-        let s = LabSettings { workers: 2, hosts: vec!["10.0.0.5".into()], port: 7447 };
+        let s = LabSettings {
+            workers: 2,
+            hosts: vec!["10.0.0.5".into()],
+            port: 7447,
+            validity_days: DEFAULT_VALIDITY_DAYS,
+        };
         let files = write_lab(dir.path(), &s).unwrap();
         let names: Vec<_> =
             files.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
@@ -208,9 +274,24 @@ mod tests {
     }
 
     #[test]
-    fn worker_counts_out_of_range_are_refused() {
+    fn worker_counts_and_validities_out_of_range_are_refused() {
         let dir = tempfile::tempdir().unwrap();
-        let s = LabSettings { workers: 0, hosts: vec![], port: 7447 };
+        let s = LabSettings { workers: 0, hosts: vec![], port: 7447, validity_days: 365 };
         assert!(matches!(write_lab(dir.path(), &s), Err(CertsError::Workers(0))));
+        for days in [0, MAX_VALIDITY_DAYS + 1] {
+            let s = LabSettings { workers: 1, hosts: vec![], port: 7447, validity_days: days };
+            let err = write_lab(dir.path(), &s).unwrap_err();
+            assert!(matches!(err, CertsError::Days(d) if d == days), "{err}");
+            assert!(err.to_string().contains("--days"), "{err}");
+        }
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing written");
+    }
+
+    #[test]
+    fn a_validity_runs_from_a_day_before_its_start_for_its_days() {
+        let start = std::time::UNIX_EPOCH + std::time::Duration::from_secs(1_800_000_000);
+        let (from, to) = Validity { start, days: 30 }.window();
+        assert_eq!(from.unix_timestamp(), 1_800_000_000 - 86_400);
+        assert_eq!(to.unix_timestamp(), 1_800_000_000 + 30 * 86_400);
     }
 }

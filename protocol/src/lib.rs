@@ -28,6 +28,7 @@ pub mod task_reply;
 pub mod transport;
 #[cfg(feature = "zenoh")]
 pub mod zenoh_config;
+pub mod zenoh_keys;
 #[cfg(feature = "zenoh")]
 pub mod zenoh_transport;
 

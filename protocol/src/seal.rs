@@ -14,11 +14,18 @@
 //! Whoever holds the key can seal: the key is only as secret as the channel
 //! that carried the Welcome (zenoh with mutual TLS; any local process on
 //! iceoryx2; anyone on an `--insecure` zenoh farm).
+//!
+//! A [`SweepKey`] overwrites its bytes with zeros when dropped (the
+//! `zeroize` crate: volatile writes the optimiser keeps). That covers the
+//! key the transports hold, not copies made of it on the way: the encoded
+//! Welcome in the transports' buffers, moves the compiler makes, and the
+//! HMAC's per-message key schedule (the `hmac` crate does not zeroize).
 
 use crate::codec::{self, CodecError};
 use hmac::{Hmac, Mac};
 use serde::{de::DeserializeOwned, Deserialize, Serialize};
 use sha2::Sha256;
+use zeroize::{Zeroize, ZeroizeOnDrop};
 
 /// Length of a sweep's key (bytes).
 pub const KEY_BYTES: usize = 32;
@@ -39,9 +46,23 @@ pub enum Direction {
     FromWorker,
 }
 
-/// A sweep's message key: random, one per sweep.
+/// A sweep's message key: random, one per sweep; zeroed when dropped.
 #[derive(Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SweepKey([u8; KEY_BYTES]);
+
+impl Zeroize for SweepKey {
+    fn zeroize(&mut self) {
+        self.0.zeroize();
+    }
+}
+
+impl Drop for SweepKey {
+    fn drop(&mut self) {
+        self.zeroize();
+    }
+}
+
+impl ZeroizeOnDrop for SweepKey {}
 
 impl std::fmt::Debug for SweepKey {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -54,9 +75,10 @@ impl SweepKey {
     /// rand's thread generator, a CSPRNG seeded by it).
     pub fn random() -> Self {
         use rand::RngCore;
-        let mut key = [0u8; KEY_BYTES];
-        rand::rng().fill_bytes(&mut key);
-        Self(key)
+        // Filled in place: no stray copy of the bytes on the stack.
+        let mut key = Self([0u8; KEY_BYTES]);
+        rand::rng().fill_bytes(&mut key.0);
+        key
     }
 
     /// A key of given bytes (tests, and an attacker's guess in them).
@@ -195,6 +217,22 @@ mod tests {
         bytes[0] = 99;
         let err = mac(1, "abc").open::<ToWorker>(Direction::ToWorker, &bytes).unwrap_err();
         assert!(matches!(err, CodecError::Version { found: 99, .. }), "{err}");
+    }
+
+    #[test]
+    fn a_key_is_zeroed_when_dropped() {
+        let mut slot = std::mem::MaybeUninit::new(SweepKey::from_bytes([0xA5; KEY_BYTES]));
+        // SAFETY: `slot` holds an initialised key, dropped once here and
+        // never used as a key again; its bytes stay initialised (a `u8`
+        // array is valid for any bytes), so reading them after is sound.
+        let after = unsafe {
+            std::ptr::drop_in_place(slot.as_mut_ptr());
+            std::ptr::read(slot.as_ptr().cast::<[u8; KEY_BYTES]>())
+        };
+        assert_eq!(after, [0; KEY_BYTES]);
+        let mut key = SweepKey::random();
+        key.zeroize();
+        assert_eq!(key, SweepKey::from_bytes([0; KEY_BYTES]));
     }
 
     #[test]

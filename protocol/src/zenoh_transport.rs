@@ -13,7 +13,8 @@
 //! query counts ([`crate::task_reply`]): an error reply fails that attempt,
 //! never the worker. Keys carry the study hash, so two sweeps on one network never
 //! mix. Multicast scouting is off: workers connect to the coordinator's
-//! endpoint.
+//! endpoint. The key layout and the patterns the access control grants
+//! live in [`crate::zenoh_keys`].
 
 use crate::codec;
 use crate::link::{study_refusal, JoinRequest, Joined, LinkEvent, Ticket, WorkerLink};
@@ -24,6 +25,7 @@ use crate::task_reply::{Reply, ReplyGate};
 use crate::transport::{recv_event, Transport, TransportError, TransportEvent, WorkerId};
 use crate::zenoh_config::session_config;
 pub use crate::zenoh_config::{Role, ZenohSecurity, DEFAULT_ENDPOINT};
+use crate::zenoh_keys as keys;
 use crate::{FromWorker, ModelSpec, Task, TaskId, TaskResult, ToWorker, PROTOCOL_VERSION};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
@@ -42,10 +44,7 @@ fn setup(e: impl std::fmt::Display) -> TransportError {
     TransportError::Setup(e.to_string())
 }
 
-/// Key prefix of a sweep: the first 16 hex digits of its study hash.
-pub fn sweep_prefix(study_hash: &str) -> String {
-    format!("ceilfarm/{}", &study_hash[..study_hash.len().min(16)])
-}
+pub use crate::zenoh_keys::sweep_prefix;
 
 /// The lock's data even if a callback panicked while holding it.
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -114,7 +113,7 @@ impl ZenohCoordinator {
         let (events, members) = (self.events_tx.clone(), self.members.clone());
         let hash = study_hash.to_string();
         let q = session
-            .declare_queryable(format!("{}/welcome", self.prefix))
+            .declare_queryable(keys::welcome_key(&self.prefix))
             .complete(true)
             .callback(move |query: Query| {
                 let bytes = query.payload().map(|p| p.to_bytes().into_owned()).unwrap_or_default();
@@ -152,10 +151,10 @@ impl ZenohCoordinator {
 
     fn declare_membership(&mut self, session: &Session) -> Result<(), TransportError> {
         let (events, members) = (self.events_tx.clone(), self.members.clone());
-        let base = format!("{}/alive/", self.prefix);
+        let base = keys::alive_key(&self.prefix, "");
         let sub = session
             .liveliness()
-            .declare_subscriber(format!("{}/alive/**", self.prefix))
+            .declare_subscriber(keys::alive_keys(&self.prefix))
             .history(true)
             .callback(move |sample| {
                 let key = sample.key_expr().as_str().to_string();
@@ -173,7 +172,7 @@ impl ZenohCoordinator {
         self.keep.push(Box::new(sub));
         let token: LivelinessToken = session
             .liveliness()
-            .declare_token(format!("{}/coordinator", self.prefix))
+            .declare_token(keys::coordinator_key(&self.prefix))
             .wait()
             .map_err(setup)?;
         self.keep.push(Box::new(token));
@@ -223,7 +222,7 @@ impl Transport for ZenohCoordinator {
             },
         };
         session
-            .get(format!("{}/task/{name}", self.prefix))
+            .get(keys::task_key(&self.prefix, &name))
             .payload(payload)
             .target(QueryTarget::All)
             .consolidation(ConsolidationMode::None)
@@ -323,7 +322,7 @@ impl WorkerLink for ZenohWorker {
         .map_err(setup)?;
         let replies = self
             .session
-            .get("ceilfarm/*/welcome")
+            .get(keys::WELCOME_KEYS)
             .payload(hello)
             .target(QueryTarget::All)
             .timeout(timeout)
@@ -364,7 +363,7 @@ impl WorkerLink for ZenohWorker {
         // Queryable first, then liveliness: never be seen before being able to answer.
         let q = self
             .session
-            .declare_queryable(format!("{prefix}/task/{task_name}"))
+            .declare_queryable(keys::task_key(&prefix, &task_name))
             .complete(true)
             .wait()
             .map_err(setup)?;
@@ -374,7 +373,7 @@ impl WorkerLink for ZenohWorker {
         let watch = self
             .session
             .liveliness()
-            .declare_subscriber(format!("{prefix}/coordinator"))
+            .declare_subscriber(keys::coordinator_key(&prefix))
             .history(true)
             .callback(move |s| {
                 if s.kind() == SampleKind::Delete {
@@ -387,7 +386,7 @@ impl WorkerLink for ZenohWorker {
         let token = self
             .session
             .liveliness()
-            .declare_token(format!("{prefix}/alive/{}", self.name))
+            .declare_token(keys::alive_key(&prefix, &self.name))
             .wait()
             .map_err(setup)?;
         self.token = Some(token);

@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 use clap::{Args, Subcommand};
-use coordinator::farm_certs::{write_lab, LabSettings};
+use coordinator::farm_certs::{write_lab, LabSettings, DEFAULT_VALIDITY_DAYS};
 use std::path::PathBuf;
 
 /// Setting up a farm across machines.
@@ -29,13 +29,21 @@ pub struct CertsArgs {
     /// The coordinator's TCP port.
     #[arg(long, default_value_t = 7447)]
     pub port: u16,
+    /// Days the certificates (the CA's too) stay valid, 1 to 3650.
+    #[arg(long, default_value_t = DEFAULT_VALIDITY_DAYS)]
+    pub days: u32,
 }
 
 /// Runs a `farm` subcommand.
 pub fn run(cmd: FarmCommand) -> Result<()> {
     match cmd {
         FarmCommand::Certs(a) => {
-            let settings = LabSettings { workers: a.workers, hosts: a.hosts, port: a.port };
+            let settings = LabSettings {
+                workers: a.workers,
+                hosts: a.hosts,
+                port: a.port,
+                validity_days: a.days,
+            };
             for path in write_lab(&a.out, &settings)? {
                 println!("{}", path.display());
             }

@@ -3,7 +3,8 @@
 //! written with the zenoh crate:
 //!
 //! - no credentials (plain TCP), no client certificate, a certificate of
-//!   another CA: the connection is refused;
+//!   another CA, a listed worker's certificate of the lab's CA that has
+//!   expired: the connection is refused;
 //! - a certificate of the lab's CA whose common name the access control
 //!   does not list: connected, but it receives no Welcome, no task query
 //!   and nothing its fake Welcome, liveliness tokens, oversized Hellos or
@@ -11,12 +12,18 @@
 //! - a listed worker certificate that never said Hello (so has no sweep
 //!   key): it hears a real worker's task queries and answers each with a
 //!   forged result, an unsealed result, a result sealed under a guessed
-//!   key, an error reply and a hand-back; none counts.
+//!   key, an error reply and a hand-back; none counts;
+//! - a listed worker certificate that said Hello (so holds the sweep's key)
+//!   and plays the coordinator: it serves a fake Welcome on the Welcome
+//!   keys and sends sealed fake tasks to the real worker's task key; the
+//!   access control's roles drop both at the coordinator, so another
+//!   listed worker's Hello hears only the real Welcome and no fake task is
+//!   answered.
 //!
 //! The sweep completes with no failed or re-issued task and its export is
 //! byte-identical to an unattacked in-process run.
 
-use coordinator::farm_certs::{Identity, LabCa, COORDINATOR_NAME};
+use coordinator::farm_certs::{Identity, LabCa, Validity, COORDINATOR_NAME};
 use coordinator::farm_zenoh_config::{coordinator_config, worker_config};
 use protocol::seal::{Direction, SweepKey, SweepMac, KEY_BYTES};
 use protocol::{codec, FromWorker, Outcome, Outputs, TaskId, TaskResult};
@@ -199,8 +206,146 @@ fn keyless_insider(session: zenoh::Session, stop: Arc<AtomicBool>) -> usize {
     answered
 }
 
+/// What the joined insider and the probe saw.
+#[derive(Default)]
+struct Impersonation {
+    /// The insider's Hello got the real Welcome (so it held the key).
+    joined: AtomicBool,
+    /// Fake tasks the insider sent, and replies of any kind it got to them
+    /// (but zenoh's own timeout).
+    fake_tasks: AtomicUsize,
+    fake_task_replies: AtomicUsize,
+    /// Welcomes another listed worker's Hello got: the real one, the fake one.
+    real_welcomes: AtomicUsize,
+    fake_welcomes: AtomicUsize,
+}
+
+/// The study hash of the insider's fake Welcome.
+const FAKE_HASH: &str = "f00d";
+
+/// A listed worker certificate that joins (so holds the sweep's key), then
+/// plays the coordinator: a fake Welcome on the Welcome keys, sealed fake
+/// tasks (and plain puts) on the real worker's task key, until `stop`.
+fn joined_insider(
+    session: zenoh::Session,
+    prefix: String,
+    seen: Arc<Impersonation>,
+    stop: Arc<AtomicBool>,
+) {
+    let s = &session;
+    let remote = zenoh::sample::Locality::Remote;
+    let hello = FromWorker::Hello {
+        proto: protocol::PROTOCOL_VERSION,
+        name: "insider".into(),
+        threads: 1,
+        study: None,
+    };
+    let mut mac = None;
+    while mac.is_none() && !stop.load(Ordering::Relaxed) {
+        let replies = s
+            .get("ceilfarm/*/welcome")
+            .allowed_destination(remote)
+            .payload(codec::encode(&hello).unwrap())
+            .timeout(Duration::from_millis(500))
+            .wait()
+            .unwrap();
+        while let Ok(r) = replies.recv() {
+            let Ok(sample) = r.result() else { continue };
+            if let Ok(protocol::ToWorker::Welcome { study_hash, key, .. }) =
+                codec::decode(&sample.payload().to_bytes())
+            {
+                mac = Some(SweepMac::new(key, &study_hash));
+            }
+        }
+    }
+    let Some(mac) = mac else { return };
+    seen.joined.store(true, Ordering::Relaxed);
+    let fake = protocol::ToWorker::Welcome {
+        study_hash: FAKE_HASH.into(),
+        model: protocol::ModelSpec {
+            kind: "borehole".into(),
+            options_json: "{}".into(),
+            param_names: vec![],
+            outputs: vec![],
+        },
+        key: SweepKey::from_bytes([1; KEY_BYTES]),
+    };
+    let fake = codec::encode(&fake).unwrap();
+    let mut welcomes = Vec::new();
+    for key in ["ceilfarm/*/welcome".to_string(), format!("{prefix}/welcome")] {
+        let fake = fake.clone();
+        let q = s
+            .declare_queryable(key)
+            .allowed_origin(remote)
+            .callback(move |q| {
+                let _ = q.reply(q.key_expr().clone(), fake.clone()).wait();
+            })
+            .wait()
+            .unwrap();
+        welcomes.push(q);
+    }
+    let mut seq = 1 << 40;
+    while !stop.load(Ordering::Relaxed) {
+        seq += 1;
+        let task = protocol::ToWorker::Task(protocol::Task { id: TaskId(0), params: vec![0.5; 8] });
+        let sealed = mac.seal(Direction::ToWorker, seq, &task).unwrap();
+        for key in [format!("{prefix}/task/real"), format!("{prefix}/task/*")] {
+            let _ = s.put(&key, sealed.clone()).wait();
+            let replies = s
+                .get(&key)
+                .allowed_destination(remote)
+                .payload(sealed.clone())
+                .timeout(Duration::from_millis(200))
+                .wait()
+                .unwrap();
+            seen.fake_tasks.fetch_add(1, Ordering::Relaxed);
+            // zenoh closes an unanswered query with its own "Timeout" error.
+            while let Ok(r) = replies.recv() {
+                let timeout = r.result().is_err_and(|e| e.payload().to_bytes() == &b"Timeout"[..]);
+                if !timeout {
+                    seen.fake_task_replies.fetch_add(1, Ordering::Relaxed);
+                }
+            }
+        }
+    }
+}
+
+/// Another listed worker's Hellos, as a worker joins, until `stop`:
+/// counts the real Welcomes and the insider's fake ones.
+fn hello_probe(session: zenoh::Session, seen: Arc<Impersonation>, stop: Arc<AtomicBool>) {
+    let hello = FromWorker::Hello {
+        proto: protocol::PROTOCOL_VERSION,
+        name: "probe".into(),
+        threads: 1,
+        study: None,
+    };
+    while !stop.load(Ordering::Relaxed) {
+        let replies = session
+            .get("ceilfarm/*/welcome")
+            .payload(codec::encode(&hello).unwrap())
+            .timeout(Duration::from_millis(300))
+            .wait()
+            .unwrap();
+        while let Ok(r) = replies.recv() {
+            let Ok(sample) = r.result() else { continue };
+            if let Ok(protocol::ToWorker::Welcome { study_hash, .. }) =
+                codec::decode(&sample.payload().to_bytes())
+            {
+                match study_hash == FAKE_HASH {
+                    true => seen.fake_welcomes.fetch_add(1, Ordering::Relaxed),
+                    false => seen.real_welcomes.fetch_add(1, Ordering::Relaxed),
+                };
+            }
+        }
+    }
+}
+
 fn config_of(ca: &LabCa, common_name: &str, connect: &str) -> String {
-    let id: Identity = ca.issue(common_name, &[]).unwrap();
+    valid_config_of(ca, common_name, connect, &Validity::from_now(1))
+}
+
+fn valid_config_of(ca: &LabCa, common_name: &str, connect: &str, validity: &Validity) -> String {
+    let id: Identity = ca.issue(common_name, &[], validity).unwrap();
     worker_config(ca.cert_pem(), &id, connect)
 }
 
@@ -217,17 +362,24 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
 
     let port = free_port();
     let tls = format!("tls/127.0.0.1:{port}");
-    let lab = LabCa::new("test lab CA").unwrap();
+    let today = Validity::from_now(1);
+    let lab = LabCa::new("test lab CA", &today).unwrap();
     let hosts = vec!["127.0.0.1".to_string(), "localhost".to_string()];
-    let coordinator = lab.issue(COORDINATOR_NAME, &hosts).unwrap();
-    let listed = vec!["ceilfarm-worker-1".to_string(), "ceilfarm-worker-2".to_string()];
+    let coordinator = lab.issue(COORDINATOR_NAME, &hosts, &today).unwrap();
+    let listed: Vec<String> = (1..=4).map(|k| format!("ceilfarm-worker-{k}")).collect();
     let ccfg = coordinator_config(lab.cert_pem(), &coordinator, &tls, &listed);
     let ccfg = write(d, "coordinator.json5", &ccfg);
     let wcfg = write(d, "worker-1.json5", &config_of(&lab, "ceilfarm-worker-1", &tls));
     let insider = config_of(&lab, "ceilfarm-worker-2", &tls);
+    let impersonator = config_of(&lab, "ceilfarm-worker-3", &tls);
+    let probe = config_of(&lab, "ceilfarm-worker-4", &tls);
     let unlisted = config_of(&lab, "ceilfarm-visitor", &tls);
     // Another CA's certificate bearing a listed worker's name.
-    let wrong_ca = config_of(&LabCa::new("another CA").unwrap(), "ceilfarm-worker-1", &tls);
+    let wrong_ca = config_of(&LabCa::new("another CA", &today).unwrap(), "ceilfarm-worker-1", &tls);
+    // A listed worker's certificate of the lab's CA, valid for a day a month ago.
+    let month_ago = std::time::SystemTime::now() - Duration::from_secs(30 * 86_400);
+    let lapsed = Validity { start: month_ago, days: 1 };
+    let expired = valid_config_of(&lab, "ceilfarm-worker-1", &tls, &lapsed);
 
     let store = d.join("attacked.db");
     let coordinator = Kill(
@@ -252,6 +404,7 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     );
     assert!(client(&no_cert, &tls).is_err(), "connected without a client certificate");
     assert!(client(&wrong_ca, &tls).is_err(), "a certificate of another CA connected");
+    assert!(client(&expired, &tls).is_err(), "an expired certificate connected");
 
     // Connected attackers: one unlisted, one listed without the key.
     let stop = Arc::new(AtomicBool::new(false));
@@ -264,6 +417,13 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let insider = client(&insider, &tls).expect("the insider connects");
     let st3 = stop.clone();
     let insider = std::thread::spawn(move || keyless_insider(insider, st3));
+    let posed = Arc::new(Impersonation::default());
+    let impersonator = client(&impersonator, &tls).expect("the joined insider connects");
+    let (p4, st4, prefix) = (posed.clone(), stop.clone(), format!("ceilfarm/{}", &hash[..16]));
+    let impersonator = std::thread::spawn(move || joined_insider(impersonator, prefix, p4, st4));
+    let probe = client(&probe, &tls).expect("the probe connects");
+    let (p5, st5) = (posed.clone(), stop.clone());
+    let probe = std::thread::spawn(move || hello_probe(probe, p5, st5));
     std::thread::sleep(Duration::from_millis(500));
 
     let _worker = Kill(
@@ -279,6 +439,8 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     stop.store(true, Ordering::Relaxed);
     visitor.join().unwrap();
     let insider_answered = insider.join().unwrap();
+    impersonator.join().unwrap();
+    probe.join().unwrap();
 
     let summary: serde_json::Value = serde_json::from_str(out.trim()).expect("summary");
     assert_eq!(summary["ok"], 40, "{summary}");
@@ -288,6 +450,12 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     assert_eq!(seen.task_queries.load(Ordering::Relaxed), 0, "it heard task queries");
     assert!(seen.hellos_sent.load(Ordering::Relaxed) >= 2, "the attacker never tried");
     assert!(insider_answered > 0, "the insider heard no task query: the MAC was not tried");
+    let count = |n: &AtomicUsize| n.load(Ordering::Relaxed);
+    assert!(posed.joined.load(Ordering::Relaxed), "the insider never held the sweep's key");
+    assert!(count(&posed.fake_tasks) > 0, "the insider sent no fake task");
+    assert!(count(&posed.real_welcomes) > 0, "the probe's Hello never reached the coordinator");
+    assert_eq!(count(&posed.fake_welcomes), 0, "a listed worker's Hello got the fake Welcome");
+    assert_eq!(count(&posed.fake_task_replies), 0, "a worker answered the insider's fake task");
     assert_eq!(export(&store, d, "attacked.csv"), want, "exports differ");
     eprintln!(
         "attacks refused in {:.1} s; the insider answered {insider_answered} task queries with forgeries",
