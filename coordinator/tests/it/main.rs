@@ -25,3 +25,4 @@ mod sweep_faults;
 mod sweep_refusals;
 mod sweep_resume;
 mod transports;
+mod unused_dependencies;
