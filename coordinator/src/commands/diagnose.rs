@@ -81,7 +81,8 @@ pub struct Args {
     /// Also compute every calibrated class's evidence p(data | class) and
     /// posterior probability (tempered SMC on an emulator of ln L, checked
     /// by FE runs; about 80 to 160 more FE runs a class) and write them to
-    /// diagnosis.json beside the verdict, which they do not change.
+    /// diagnosis.json beside the verdict (which they name with --verdict
+    /// evidence).
     #[arg(long, conflicts_with = "linear_only")]
     pub evidence: bool,
     /// With --evidence: the likelihood it integrates, `band` (the residual
@@ -96,6 +97,16 @@ pub struct Args {
     /// `evidence` (the class of highest posterior probability).
     #[arg(long, requires = "evidence", default_value = "mdl", value_parser = ["mdl", "evidence"])]
     pub verdict: String,
+    /// With --verdict evidence: also search classes of several effects
+    /// (forward and backward from the most probable single one;
+    /// experimental, see docs/diagnosis.md).
+    #[arg(long, requires = "evidence")]
+    pub combine: bool,
+    /// With --evidence: the prior probability that each effect acts,
+    /// independently of the others (0.5: every class equally probable
+    /// before the data).
+    #[arg(long, requires = "evidence", default_value_t = 0.5)]
+    pub effect_prior: f64,
     /// Run the linear stage only: print its fit of the weakest runs and
     /// `modal.csv` and write it to OUT/linear.json.
     #[arg(long)]
@@ -131,11 +142,20 @@ pub fn run(a: Args) -> Result<()> {
     if !(rate >= 0.0 && rate.is_finite()) {
         anyhow::bail!("--simulation-rate-hz {rate}: expected a rate in Hz, or 0 for none");
     }
+    let p = a.effect_prior;
+    if !(p > 0.0 && p < 1.0) {
+        anyhow::bail!("--effect-prior {p}: expected a probability strictly between 0 and 1");
+    }
+    if a.combine && a.verdict != "evidence" {
+        anyhow::bail!("--combine: classes of several effects are searched by their evidence; add --verdict evidence");
+    }
     let opts = DiagnoseOptions {
         budget,
+        combine: a.combine,
         linear_stage: !a.no_linear_stage,
         evidence: a.evidence.then(|| EvidencePolicy {
             likelihood: LikelihoodKind::parse(&a.evidence_likelihood).unwrap_or_default(),
+            effect_prior: p,
             ..EvidencePolicy::default()
         }),
         rule: if a.verdict == "evidence" { VerdictRule::Evidence } else { VerdictRule::Mdl },

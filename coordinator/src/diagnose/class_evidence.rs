@@ -101,6 +101,12 @@ pub struct EvidencePolicy {
     /// The likelihood ln L (band by default: its nats do not grow with the
     /// sampling rate, see [`super::band_likelihood`]).
     pub likelihood: LikelihoodKind,
+    /// The prior probability that each registered effect acts, independently
+    /// of the others: a class of k of the n effects has prior
+    /// p^k (1 − p)^(n − k). 0.5 by default: every class equally probable
+    /// before the data, the evidence's Occam factor the only penalty on
+    /// complexity ([`super::class_odds::ln_prior`]).
+    pub effect_prior: f64,
 }
 
 impl Default for EvidencePolicy {
@@ -113,6 +119,7 @@ impl Default for EvidencePolicy {
             floor_nats: (20.0, 10.0),
             smc: SmcOptions { particles: 3000, ..SmcOptions::default() },
             likelihood: LikelihoodKind::Band,
+            effect_prior: 0.5,
         }
     }
 }

@@ -1,15 +1,19 @@
 //! The posterior probability of each calibrated model class: its evidence
-//! ([`super::class_evidence`]) times its prior odds, normalised over the
-//! classes tried. Equal prior odds by default: no class is favoured before
-//! the data; the evidence's own Occam factor (each parameter's prior
-//! volume) is the only penalty on complexity.
+//! ([`super::class_evidence`]) times its prior ([`ln_prior`]), normalised
+//! over the classes tried. Each registered effect acts with prior
+//! probability [`EvidencePolicy::effect_prior`], independently of the
+//! others; at its default 0.5 every class is equally probable before the
+//! data, and the evidence's own Occam factor (each parameter's prior volume)
+//! is the only penalty on complexity.
 //!
 //! Reported beside the verdict, which the MDL rules decide by default;
 //! under `--verdict evidence` the most probable class names the cause and
 //! classes of several effects are searched ([`super::class_search`]).
 
 use super::calibrate::Calibration;
+use super::cause::Cause;
 use super::class_evidence::{class_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy};
+use super::effect::EFFECTS;
 use super::executor::{ExecutorError, FeExecutor};
 use super::likelihood::ChannelWeights;
 use crate::bundle::Bundle;
@@ -19,9 +23,19 @@ use crate::bundle::Bundle;
 pub struct ClassOdds {
     /// The evidence, its error and its rounds.
     pub evidence: ClassEvidence,
-    /// Posterior probability among the classes whose evidence was had
-    /// (equal prior odds).
+    /// Posterior probability among the classes whose evidence was had.
     pub probability: f64,
+    /// The prior probability of each effect it was weighed under
+    /// ([`EvidencePolicy::effect_prior`]).
+    pub effect_prior: f64,
+}
+
+/// ln p(class): each of the n registered effects acts with probability
+/// `effect_prior`, independently, so a class of k of them has
+/// k ln p + (n − k) ln(1 − p).
+pub fn ln_prior(cause: Cause, effect_prior: f64) -> f64 {
+    let (k, n) = (cause.size() as f64, EFFECTS.len() as f64);
+    k * effect_prior.ln() + (n - k) * (1.0 - effect_prior).ln()
 }
 
 /// The evidence of each calibration in `cals` on `runs` of `bundle`
@@ -40,15 +54,21 @@ pub fn class_odds(
     for (k, cal) in cals.iter().enumerate() {
         progress(k, cals.len());
         out.push(match class_evidence(cal, (bundle, runs), w, exec, policy) {
-            Ok(evidence) => Ok(ClassOdds { evidence, probability: f64::NAN }),
+            Ok(evidence) => {
+                Ok(ClassOdds { evidence, probability: f64::NAN, effect_prior: policy.effect_prior })
+            }
             Err(ClassEvidenceError::Executor(e)) => return Err(e),
             Err(e) => Err(e.to_string()),
         });
     }
     progress(cals.len(), cals.len());
-    let ln_z: Vec<f64> =
-        out.iter().map(|o| o.as_ref().map_or(f64::NAN, |o| o.evidence.ln_evidence)).collect();
-    for (o, p) in out.iter_mut().zip(probabilities(&ln_z)) {
+    let ln_post: Vec<f64> = (out.iter().zip(cals))
+        .map(|(o, c)| {
+            let z = o.as_ref().map_or(f64::NAN, |o| o.evidence.ln_evidence);
+            z + ln_prior(c.cause, policy.effect_prior)
+        })
+        .collect();
+    for (o, p) in out.iter_mut().zip(probabilities(&ln_post)) {
         if let Ok(o) = o {
             o.probability = p;
         }
@@ -56,8 +76,8 @@ pub fn class_odds(
     Ok(out)
 }
 
-/// Posterior probabilities under equal prior odds from log-evidences
-/// (NaN entries have none and take no share).
+/// Posterior probabilities from unnormalised log-posteriors (ln Z plus ln
+/// prior; NaN entries have none and take no share).
 pub fn probabilities(ln_z: &[f64]) -> Vec<f64> {
     let top = ln_z.iter().copied().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     if !top.is_finite() {
@@ -70,7 +90,26 @@ pub fn probabilities(ln_z: &[f64]) -> Vec<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::probabilities;
+    use super::*;
+
+    #[test]
+    fn the_prior_of_a_class_is_its_effects_acting_independently() {
+        let pf = Cause::PERIMETER_FRICTION.with(0);
+        // At 1/2 every class has 2^-n.
+        for c in [Cause::NONE, Cause::PERIMETER_FRICTION, pf] {
+            assert!((ln_prior(c, 0.5) - (0.125f64).ln()).abs() < 1e-12);
+        }
+        // At 0.1 each effect costs ln 9 against its absence.
+        let step = ln_prior(Cause::PERIMETER_FRICTION, 0.1) - ln_prior(pf, 0.1);
+        assert!((step - 9f64.ln()).abs() < 1e-12);
+        let total: f64 = (0..8u8)
+            .map(|bits| {
+                let c = (0..3).filter(|k| bits & (1 << k) != 0).fold(Cause::NONE, |c, k| c.with(k));
+                ln_prior(c, 0.1).exp()
+            })
+            .sum();
+        assert!((total - 1.0).abs() < 1e-12);
+    }
 
     #[test]
     fn probabilities_follow_the_evidence_ratios_and_skip_missing_classes() {

@@ -4,18 +4,21 @@
 //! one of them has a higher evidence, move there and try each class with
 //! one of its effects dropped; stop when no class within one step beats
 //! the best. With k effects this tries O(k²) classes, not 2^k. No
-//! threshold: the evidences are compared as they are (equal prior odds),
-//! so a class is kept only when its gain in fit outweighs its Occam factor.
+//! threshold: the classes are compared by their log-posterior (log-evidence
+//! plus log-prior, [`super::class_odds::ln_prior`]; equal priors by
+//! default), so a class is kept only when its gain in fit outweighs its
+//! Occam factor and its prior.
 
 use std::collections::BTreeMap;
 
 use super::cause::Cause;
 use super::effect::EFFECTS;
 
-/// Log-evidence of each class tried (None: tried, but no evidence had).
+/// Log-posterior (unnormalised) of each class tried (None: tried, but no
+/// evidence had).
 pub type Tried = BTreeMap<Cause, Option<f64>>;
 
-/// The class of highest evidence among those tried (None: none has one).
+/// The class of highest posterior among those tried (None: none has one).
 pub fn best_class(tried: &Tried) -> Option<Cause> {
     tried
         .iter()
@@ -26,7 +29,7 @@ pub fn best_class(tried: &Tried) -> Option<Cause> {
 
 /// Extends `tried` by the forward–backward search: `in_place` says which
 /// classes the specimen admits, `try_class` calibrates one class and
-/// returns its log-evidence. Returns the classes it tried, in order.
+/// returns its log-posterior. Returns the classes it tried, in order.
 pub fn search_classes<E>(
     tried: &mut Tried,
     in_place: &dyn Fn(Cause) -> bool,

@@ -43,13 +43,14 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
             refine_walks: 1,
             damping_path: super::damping_path::DampingPathUse::Never,
         },
-        candidates: vec![Cause::NONE, Cause::PERIMETER_POUNDING],
+        candidates: vec![Cause::NONE, Cause::PERIMETER_POUNDING, Cause::PERIMETER_FRICTION],
         linear_stage: false,
         evidence: Some(EvidencePolicy {
             smc: stats::evidence::SmcOptions { particles: 400, ..Default::default() },
             ..EvidencePolicy::default()
         }),
         rule: super::pipeline::VerdictRule::Evidence,
+        combine: true,
     }
 }
 
@@ -126,6 +127,9 @@ fn farm_matches_threads_and_a_stopped_diagnosis_resumes_from_its_store() {
         eprintln!("{}: {odds:?}", c.cause.as_str());
     }
     let t_threads = t0.elapsed().as_secs_f64();
+    // The class search went beyond the single effects (the farm, the store
+    // and the resume must carry it too).
+    assert!(want.candidates.iter().any(|c| c.cause.size() == 2), "no class of two effects");
 
     let t0 = std::time::Instant::now();
     let mut farm = in_process(Some(dir.path().join("whole.db")));

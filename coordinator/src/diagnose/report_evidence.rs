@@ -38,8 +38,9 @@ pub fn evidence_section(d: &Diagnosis) -> Option<Section> {
     });
     let blocks = vec![
         Block::Paragraph(format!(
-            "{EVIDENCE_METHOD}. ln L: {}. Probabilities under equal prior odds. {}",
+            "{EVIDENCE_METHOD}. ln L: {}. {} {}",
             likelihood_words(&odds),
+            prior_words(&odds),
             match d.rule {
                 VerdictRule::Evidence => "The verdict above is the most probable class.",
                 VerdictRule::Mdl => "The verdict above does not use them (the MDL rules name it).",
@@ -68,6 +69,16 @@ pub fn evidence_section(d: &Diagnosis) -> Option<Section> {
         Block::figure("Log Bayes factor of each class against the best.", chart),
     ];
     Some(Section { id: "evidence".into(), heading: "Model classes: evidence".into(), blocks })
+}
+
+/// How the classes' prior was set, in a sentence.
+fn prior_words(odds: &[Option<&Result<ClassOdds, String>>]) -> String {
+    let p = odds.iter().flatten().find_map(|o| o.as_ref().ok()).map_or(0.5, |o| o.effect_prior);
+    if p == 0.5 {
+        "Probabilities under equal prior odds.".into()
+    } else {
+        format!("Probabilities with each effect acting with prior probability {p}, independently.")
+    }
 }
 
 /// What the classes' ln L is, in words.
@@ -133,7 +144,7 @@ mod tests {
             fe_points: 80,
             likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
         };
-        ClassOdds { evidence, probability: p }
+        ClassOdds { evidence, probability: p, effect_prior: 0.5 }
     }
 
     #[test]

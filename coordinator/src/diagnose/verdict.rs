@@ -78,9 +78,13 @@ pub struct EvidenceJson {
     /// Its standard error (nats).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ln_evidence_sd: Option<f64>,
-    /// Posterior probability among the classes (equal prior odds).
+    /// Posterior probability among the classes.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub probability: Option<f64>,
+    /// The prior probability of each effect the probability is under, when
+    /// not the default 0.5 (equal prior odds for every class).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub effect_prior: Option<f64>,
     /// Pareto k̂ of the last FE correction.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub k_hat: Option<f64>,
@@ -124,6 +128,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                 ln_evidence: Some(e.ln_evidence),
                 ln_evidence_sd: Some(e.ln_evidence_sd),
                 probability: Some(o.probability),
+                effect_prior: (o.effect_prior != 0.5).then_some(o.effect_prior),
                 k_hat: Some(e.k_hat),
                 converged: Some(e.converged),
                 laplace_ln_evidence: Some(e.laplace_ln_evidence),
@@ -138,6 +143,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
             ln_evidence: None,
             ln_evidence_sd: None,
             probability: None,
+            effect_prior: None,
             k_hat: None,
             converged: None,
             laplace_ln_evidence: None,
