@@ -210,12 +210,15 @@ fn farm_run(
             setup.kind.as_str()
         );
     }
-    if s.ok != n {
+    // A re-issue without a loss is a dropped link too (how the TLS link's
+    // race showed in small tasks): the security comparison reports it.
+    let report = REPORT_SHORT_RUNS.load(std::sync::atomic::Ordering::Relaxed);
+    if s.ok != n || (report && s.reissued > 0) {
         let secured = if setup.certs.is_some() { " (secured)" } else { "" };
         let what =
             format!("not every task once: {}{secured} x{workers}: {s:?}", setup.kind.as_str());
         // The security comparison reports such a run and goes on.
-        assert!(REPORT_SHORT_RUNS.load(std::sync::atomic::Ordering::Relaxed), "{what}");
+        assert!(report, "{what}");
         println!("  ! {what}");
     }
     // A run so short that it ended before every worker was in: time it all.

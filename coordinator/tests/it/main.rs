@@ -15,6 +15,8 @@ mod pipeline_seed_ch6;
 mod report_browser;
 mod report_svg;
 #[cfg(feature = "zenoh")]
+mod secured_links;
+#[cfg(feature = "zenoh")]
 mod security_attacks;
 #[cfg(feature = "zenoh")]
 mod security_sigterm;
