@@ -23,7 +23,8 @@ use crate::bundle::Bundle;
 pub struct ClassOdds {
     /// The evidence, its error and its rounds.
     pub evidence: ClassEvidence,
-    /// Posterior probability among the classes whose evidence was had.
+    /// Posterior probability among the classes whose evidence settled
+    /// (NaN for one that did not).
     pub probability: f64,
     /// The prior probability of each effect it was weighed under
     /// ([`EvidencePolicy::effect_prior`]).
@@ -64,7 +65,9 @@ pub fn class_odds(
     progress(cals.len(), cals.len());
     let ln_post: Vec<f64> = (out.iter().zip(cals))
         .map(|(o, c)| {
-            let z = o.as_ref().map_or(f64::NAN, |o| o.evidence.ln_evidence);
+            // An evidence that did not settle takes no share.
+            let settled = o.as_ref().ok().filter(|o| o.evidence.converged);
+            let z = settled.map_or(f64::NAN, |o| o.evidence.ln_evidence);
             z + ln_prior(c.cause, policy.effect_prior)
         })
         .collect();
