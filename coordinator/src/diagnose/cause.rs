@@ -176,34 +176,28 @@ pub fn model_parameters(
 }
 
 /// The name of every class, indexed by its bit set.
-static NAMES: LazyLock<Vec<String>> = LazyLock::new(|| {
-    (0..1usize << EFFECTS.len())
-        .map(|bits| {
-            let c = Cause(bits as u8);
-            let names: Vec<&str> = c.effects().map(|e| e.name()).collect();
-            if names.is_empty() {
-                "none".into()
-            } else {
-                names.join("+")
-            }
-        })
-        .collect()
-});
+static NAMES: LazyLock<Vec<String>> = LazyLock::new(|| per_class(|e| e.name(), "+", "none"));
 
 /// What each class's physics is, indexed by its bit set.
 static EXPLAINED: LazyLock<Vec<String>> = LazyLock::new(|| {
+    let baseline = "the baseline model explains the data within its noise";
+    per_class(|e| e.explain(), "; and ", baseline)
+});
+
+/// For every class by its bit set, `word` of each of its effects joined by
+/// `sep`, or `baseline` for the class of none.
+fn per_class(word: fn(&dyn Effect) -> &'static str, sep: &str, baseline: &str) -> Vec<String> {
     (0..1usize << EFFECTS.len())
         .map(|bits| {
-            let c = Cause(bits as u8);
-            let parts: Vec<&str> = c.effects().map(|e| e.explain()).collect();
-            if parts.is_empty() {
-                "the baseline model explains the data within its noise".into()
+            let words: Vec<&str> = Cause(bits as u8).effects().map(word).collect();
+            if words.is_empty() {
+                baseline.into()
             } else {
-                parts.join("; and ")
+                words.join(sep)
             }
         })
         .collect()
-});
+}
 
 impl std::fmt::Debug for Cause {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

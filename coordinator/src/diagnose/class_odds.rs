@@ -65,10 +65,9 @@ pub fn class_odds(
     progress(cals.len(), cals.len());
     let ln_post: Vec<f64> = (out.iter().zip(cals))
         .map(|(o, c)| {
-            // An evidence that did not settle takes no share.
-            let settled = o.as_ref().ok().filter(|o| o.evidence.converged);
-            let z = settled.map_or(f64::NAN, |o| o.evidence.ln_evidence);
-            z + ln_prior(c.cause, policy.effect_prior)
+            let settled =
+                o.as_ref().ok().and_then(|o| settled_ln_posterior(o, c.cause, policy.effect_prior));
+            settled.unwrap_or(f64::NAN)
         })
         .collect();
     for (o, p) in out.iter_mut().zip(probabilities(&ln_post)) {
@@ -77,6 +76,14 @@ pub fn class_odds(
         }
     }
     Ok(out)
+}
+
+/// The unnormalised log-posterior of class `cause` (its log-evidence plus
+/// [`ln_prior`] under `effect_prior`) when its evidence settled; None when
+/// its rounds ran out first: such an evidence is reported, never compared,
+/// and takes no share of the probability.
+pub fn settled_ln_posterior(o: &ClassOdds, cause: Cause, effect_prior: f64) -> Option<f64> {
+    o.evidence.converged.then(|| o.evidence.ln_evidence + ln_prior(cause, effect_prior))
 }
 
 /// Posterior probabilities from unnormalised log-posteriors (ln Z plus ln

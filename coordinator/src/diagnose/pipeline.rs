@@ -11,7 +11,7 @@ use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
 use super::class_evidence::EvidencePolicy;
-use super::class_odds::{class_odds, ln_prior, probabilities, ClassOdds};
+use super::class_odds::{class_odds, probabilities, settled_ln_posterior, ClassOdds};
 use super::class_search::{search_classes, Tried};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
@@ -424,6 +424,27 @@ impl Variants {
         self.baseline_channels().map(effective_sizes)
     }
 
+    /// Calibrates class `c` on `runs` of `b` under weights `n_eff0` around
+    /// the baseline's estimate, its rival the lowest −log L any class so far
+    /// reached ([`calibrate`] with [`Around`]).
+    fn calibrate_class(
+        &self,
+        c: Cause,
+        (b, runs): (&Bundle, &[usize]),
+        n_eff0: &[f64],
+        budget: &Budget,
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+    ) -> Result<Calibration, ExecutorError> {
+        let stage = format!("calibrating {}", c.as_str());
+        let rival =
+            self.cals.iter().flat_map(|k| k.objective(n_eff0)).fold(f64::INFINITY, f64::min);
+        let (base_u, base_priors, demand) = &self.base;
+        let around = Around { base: base_u, demand: *demand, rival };
+        let mut report = |d, n| progress(&stage, d, n);
+        calibrate(b, (c, base_priors), runs, n_eff0, budget, Some(around), exec, &mut report)
+    }
+
     /// The in-band degrees of freedom of the baseline's residual at its
     /// estimate ([`band_sizes`]), fixed as the effective sizes are.
     fn baseline_band_dof(&self) -> Result<Vec<f64>, DiagnoseError> {
@@ -457,19 +478,7 @@ fn calibrate_variants(
     let boundary = b.manifest.structure.boundary;
     let in_place = |c: &Cause| *c != Cause::NONE && c.has_place(boundary);
     for c in opts.candidates.iter().copied().filter(in_place) {
-        let stage = format!("calibrating {}", c.as_str());
-        let rival = v.cals.iter().flat_map(|k| k.objective(n_eff0)).fold(f64::INFINITY, f64::min);
-        let around = Around { base: &base_u, demand, rival };
-        let cal = calibrate(
-            b,
-            (c, &base_priors),
-            cal_runs,
-            n_eff0,
-            &opts.budget,
-            Some(around),
-            exec,
-            &mut |d, n| progress(&stage, d, n),
-        )?;
+        let cal = v.calibrate_class(c, (b, cal_runs), n_eff0, &opts.budget, exec, progress)?;
         let stage = format!("linear part of {}", c.as_str());
         let planned = linear_part::planned_runs(&opts.budget);
         let part = calibrate_linear_part(
@@ -712,8 +721,8 @@ fn attach_posterior(
 /// that class's corrected rounds ran from +4501 to −1509 nats over `none`
 /// while its emulated ones rose): it is reported, never compared.
 fn ln_posterior(r: &CandidateResult, effect_prior: f64) -> Option<f64> {
-    let settled = r.odds.as_ref().and_then(|o| o.as_ref().ok()).filter(|o| o.evidence.converged);
-    settled.map(|o| o.evidence.ln_evidence + ln_prior(r.cause, effect_prior))
+    let odds = r.odds.as_ref().and_then(|o| o.as_ref().ok())?;
+    settled_ln_posterior(odds, r.cause, effect_prior)
 }
 
 /// The candidate of highest posterior probability (each effect with prior
@@ -812,21 +821,8 @@ impl After<'_> {
         let prior = policy.effect_prior;
         let mut tried: Tried = results.iter().map(|r| (r.cause, ln_posterior(r, prior))).collect();
         let mut try_class = |c: Cause| -> Result<Option<f64>, DiagnoseError> {
-            let stage = format!("calibrating {}", c.as_str());
-            let rival =
-                v.cals.iter().flat_map(|k| k.objective(n_eff0)).fold(f64::INFINITY, f64::min);
-            let (base_u, base_priors, demand) = &v.base;
-            let around = Around { base: base_u, demand: *demand, rival };
-            let cal = calibrate(
-                b,
-                (c, base_priors),
-                cal_runs,
-                n_eff0,
-                &self.opts.budget,
-                Some(around),
-                exec,
-                &mut |d, n| progress(&stage, d, n),
-            )?;
+            let data = (b, cal_runs);
+            let cal = v.calibrate_class(c, data, n_eff0, &self.opts.budget, exec, progress)?;
             let mut r = self.assess(&cal, None, exec)?;
             let stage = format!("class evidence of {}", c.as_str());
             let odds = class_odds(
