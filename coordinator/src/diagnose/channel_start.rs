@@ -10,9 +10,10 @@
 //! basin and is not repeated: the second search costs 24 FE runs, and the
 //! largest campaigns are near the time goal without them.
 
-use super::calibrate::{point_value, Budget, Calibration, Scale, Search};
+use super::calibrate::{Budget, Calibration};
 use super::cause::CHANNEL_BEAMS;
 use super::executor::{ExecutorError, FeExecutor};
+use super::resume::{search_from, Resumed};
 use crate::bundle::Bundle;
 
 /// Index of the beam factor among the priors of `cal` (None: not calibrated).
@@ -36,32 +37,21 @@ pub fn seed_section_start(cal: &Calibration, n_eff: &[f64]) -> Option<Vec<f64>> 
 
 /// Runs a Levenberg–Marquardt search of `budget.local` FE runs of `runs` of
 /// `bundle` over every parameter of `cal` from `start` ([`seed_section_start`])
-/// and keeps its points; its Gauss–Newton matrix replaces the calibration's
-/// when it ended below the best point before it. `progress` hears the FE
-/// points the search has spent.
+/// and keeps its points ([`search_from`]). `progress` hears the FE points
+/// the search has spent.
 pub fn search_seed_section(
     cal: &mut Calibration,
     start: Vec<f64>,
-    (bundle, runs): (&Bundle, &[usize]),
+    on: (&Bundle, &[usize]),
     n_eff: &[f64],
     budget: &Budget,
     exec: &mut dyn FeExecutor,
     progress: &mut dyn FnMut(usize),
 ) -> Result<(), ExecutorError> {
-    let before = cal.best(n_eff).map_or(f64::INFINITY, |k| cal.objective(n_eff)[k]);
-    let all: Vec<usize> = (0..cal.priors.len()).collect();
-    let mut found = cal.restarted(all.clone());
-    let ev = cal.evaluation(bundle, runs);
-    let mut search = Search { ev: &ev, n_eff, budget, exec, own: &all };
-    let (end, gn) =
-        search.levenberg_marquardt(&mut found, Scale::Fine, start, &all, budget.local, progress)?;
-    let after = point_value(&found, &end, n_eff);
-    let end_beams = beams_index(cal).map(|i| end[i]);
-    tracing::debug!(before, after, ?end_beams, "channels at the seed's section");
-    cal.points.append(&mut found.points);
-    if after < before && gn.is_some() {
-        cal.gauss_newton = gn;
-    }
+    let start_beams = beams_index(cal).map(|i| start[i]);
+    let Resumed { before, after } =
+        search_from(cal, start, on, n_eff, budget, budget.local, exec, progress)?;
+    tracing::debug!(before, after, ?start_beams, "channels at the seed's section");
     Ok(())
 }
 

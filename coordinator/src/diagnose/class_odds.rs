@@ -12,7 +12,9 @@
 
 use super::calibrate::Calibration;
 use super::cause::Cause;
-use super::class_evidence::{class_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy};
+use super::class_evidence::{
+    settled_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy, Resume,
+};
 use super::effect::EFFECTS;
 use super::executor::{ExecutorError, FeExecutor};
 use super::likelihood::ChannelWeights;
@@ -41,20 +43,22 @@ pub fn ln_prior(cause: Cause, effect_prior: f64) -> f64 {
 
 /// The evidence of each calibration in `cals` on `runs` of `bundle`
 /// (channel weights `w`), each with its posterior probability among
-/// those that have one; a class whose evidence failed carries why.
-/// `progress` hears (done, planned).
+/// those that have one; a class whose evidence failed carries why. Each
+/// calibration's search may resume from higher ground its evidence found
+/// ([`settled_evidence`] with `resume`). `progress` hears (done, planned).
 pub fn class_odds(
-    cals: &[Calibration],
+    cals: &mut [Calibration],
     (bundle, runs): (&Bundle, &[usize]),
     w: ChannelWeights<'_>,
     exec: &mut dyn FeExecutor,
-    policy: &EvidencePolicy,
+    (policy, resume): (&EvidencePolicy, &mut Resume<'_>),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Result<ClassOdds, String>>, ExecutorError> {
     let mut out = Vec::with_capacity(cals.len());
-    for (k, cal) in cals.iter().enumerate() {
-        progress(k, cals.len());
-        out.push(match class_evidence(cal, (bundle, runs), w, exec, policy) {
+    let planned = cals.len();
+    for (k, cal) in cals.iter_mut().enumerate() {
+        progress(k, planned);
+        out.push(match settled_evidence(cal, (bundle, runs), w, exec, policy, resume) {
             Ok(evidence) => {
                 Ok(ClassOdds { evidence, probability: f64::NAN, effect_prior: policy.effect_prior })
             }
@@ -63,7 +67,7 @@ pub fn class_odds(
         });
     }
     progress(cals.len(), cals.len());
-    let ln_post: Vec<f64> = (out.iter().zip(cals))
+    let ln_post: Vec<f64> = (out.iter().zip(cals.iter()))
         .map(|(o, c)| {
             let settled =
                 o.as_ref().ok().and_then(|o| settled_ln_posterior(o, c.cause, policy.effect_prior));

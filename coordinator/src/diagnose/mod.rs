@@ -43,6 +43,7 @@ pub mod report_linear;
 pub mod report_posterior;
 pub mod report_symptoms;
 pub mod resample;
+pub mod resume;
 pub mod ridge;
 pub mod spectrogram;
 pub mod spectrum;

@@ -29,6 +29,7 @@ use super::modal_fit::ModalFit;
 use super::posterior::VariationalPosterior;
 use super::posterior_check::{checked_posterior, rounds as check_rounds};
 use super::refine::{planned_runs, refine, refine_walks, twin_walks};
+use super::resume::search_from;
 use super::unexplained::{channel_misses, unexplained, Miss, Unexplained, Where};
 use crate::bundle::{Bundle, Direction, RunRole};
 use stats::gp::Gp;
@@ -774,7 +775,12 @@ impl After<'_> {
 
     /// Every calibrated class's evidence and probability by `policy`
     /// ([`class_odds`]); under the evidence's verdict, then the classes of
-    /// several effects ([`After::search_combined`]).
+    /// several effects ([`After::search_combined`]). Under the evidence's
+    /// verdict a calibration whose evidence found higher ground resumes its
+    /// search there ([`super::class_evidence::settled_evidence`]) and is
+    /// assessed again; under the MDL's, whose choice was made on the
+    /// calibrations as they were, the evidence is computed on them as they
+    /// are (no restart).
     fn weigh_classes(
         &self,
         policy: &EvidencePolicy,
@@ -788,14 +794,61 @@ impl After<'_> {
         let band_dof = v.baseline_band_dof()?;
         let w = ChannelWeights { n_eff: self.n_eff.1, band_dof: &band_dof };
         let data = (self.b, self.runs.0);
-        let odds = class_odds(&v.cals, data, w, exec, policy, &mut report)?;
-        for (r, o) in results.iter_mut().zip(odds) {
-            r.fe_points += o.as_ref().map_or(0, |o| o.evidence.fe_points);
-            r.odds = Some(o);
+        let evidence_rule = self.opts.rule == VerdictRule::Evidence;
+        let restarts = if evidence_rule { policy.restarts } else { 0 };
+        let policy = &EvidencePolicy { restarts, ..policy.clone() };
+        let spent: Vec<usize> = v.cals.iter().map(Calibration::fe_points).collect();
+        let mut resume = self.resume(policy);
+        let odds = class_odds(&mut v.cals, data, w, exec, (policy, &mut resume), &mut report)?;
+        for (k, o) in odds.into_iter().enumerate() {
+            if v.cals[k].fe_points() != spent[k] {
+                self.reassess(v, k, &mut results[k], spent[k], exec)?;
+            }
+            results[k].fe_points += o.as_ref().map_or(0, |o| o.evidence.fe_points);
+            results[k].odds = Some(o);
         }
-        if self.opts.rule == VerdictRule::Evidence && self.opts.combine {
+        if evidence_rule && self.opts.combine {
             self.search_combined((policy, w), v, results, exec, progress)?;
         }
+        Ok(())
+    }
+
+    /// How a calibration resumes its search from higher ground its
+    /// evidence found: a Levenberg–Marquardt search over every parameter
+    /// ([`search_from`], [`EvidencePolicy::resume_runs`] FE runs) on the
+    /// calibration runs under the calibration's weights.
+    fn resume<'p>(
+        &'p self,
+        policy: &'p EvidencePolicy,
+    ) -> impl FnMut(&mut Calibration, Vec<f64>, &mut dyn FeExecutor) -> Result<(), ExecutorError> + 'p
+    {
+        let (b, runs, n_eff0, budget) = (self.b, self.runs.0, self.n_eff.0, &self.opts.budget);
+        move |cal: &mut Calibration, u: Vec<f64>, exec: &mut dyn FeExecutor| {
+            let local = policy.resume_runs(cal.priors.len());
+            let r = search_from(cal, u, (b, runs), n_eff0, budget, local, exec, &mut |_| {})?;
+            tracing::debug!(cause = cal.cause.as_str(), r.before, r.after, "resumed search");
+            Ok(())
+        }
+    }
+
+    /// Assesses `v.cals[k]` again after its search resumed (the baseline
+    /// with nothing held, as first), keeping what `r` had counted besides
+    /// the calibration's `spent` FE points and its linear part's MDL.
+    fn reassess(
+        &self,
+        v: &Variants,
+        k: usize,
+        r: &mut CandidateResult,
+        spent: usize,
+        exec: &mut dyn FeExecutor,
+    ) -> Result<(), ExecutorError> {
+        let none = Held::none();
+        let held = if k == 0 { &none } else { self.held };
+        let cal = &v.cals[k];
+        let mut again = assess(self.b, cal, self.n_eff.1, self.runs, held, exec)?;
+        again.linear_part_mdl = r.linear_part_mdl;
+        again.fe_points = r.fe_points + cal.fe_points() - spent;
+        *r = again;
         Ok(())
     }
 
@@ -820,19 +873,21 @@ impl After<'_> {
         };
         let prior = policy.effect_prior;
         let mut tried: Tried = results.iter().map(|r| (r.cause, ln_posterior(r, prior))).collect();
+        let mut resume = self.resume(policy);
         let mut try_class = |c: Cause| -> Result<Option<f64>, DiagnoseError> {
             let data = (b, cal_runs);
-            let cal = v.calibrate_class(c, data, n_eff0, &self.opts.budget, exec, progress)?;
-            let mut r = self.assess(&cal, None, exec)?;
+            let mut cal = v.calibrate_class(c, data, n_eff0, &self.opts.budget, exec, progress)?;
             let stage = format!("class evidence of {}", c.as_str());
             let odds = class_odds(
-                std::slice::from_ref(&cal),
+                std::slice::from_mut(&mut cal),
                 (b, cal_runs),
                 w,
                 exec,
-                policy,
+                (policy, &mut resume),
                 &mut |d, n| progress(&stage, d, n),
             )?;
+            // Assessed after its evidence: the search may have resumed.
+            let mut r = self.assess(&cal, None, exec)?;
             r.odds = odds.into_iter().next();
             r.fe_points +=
                 r.odds.as_ref().and_then(|o| o.as_ref().ok()).map_or(0, |o| o.evidence.fe_points);
@@ -1290,6 +1345,8 @@ mod tests {
                     rounds: vec![],
                     fe_points: 0,
                     likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
+                    restarts: 0,
+                    higher_ground: None,
                 };
                 Ok(ClassOdds { evidence, probability: f64::NAN, effect_prior: 0.5 })
             });

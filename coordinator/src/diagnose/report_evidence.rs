@@ -143,6 +143,8 @@ mod tests {
             rounds: vec![],
             fe_points: 80,
             likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
+            restarts: 0,
+            higher_ground: None,
         };
         ClassOdds { evidence, probability: p, effect_prior: 0.5 }
     }

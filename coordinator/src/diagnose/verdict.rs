@@ -96,6 +96,10 @@ pub struct EvidenceJson {
     pub laplace_ln_evidence: Option<f64>,
     /// FE parameter points the evidence ran.
     pub fe_points: usize,
+    /// Times the calibration's search resumed from higher ground the
+    /// evidence's checks found (absent when none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restarts: Option<usize>,
     /// Each round: emulated ln Z, corrected ln Z, its standard error, k̂
     /// (null where every check failed).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -133,6 +137,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                 converged: Some(e.converged),
                 laplace_ln_evidence: Some(e.laplace_ln_evidence),
                 fe_points: e.fe_points,
+                restarts: (e.restarts > 0).then_some(e.restarts),
                 rounds: e.rounds.iter().map(round_json).collect(),
                 not_computable: None,
             }
@@ -148,6 +153,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
             converged: None,
             laplace_ln_evidence: None,
             fe_points: 0,
+            restarts: None,
             rounds: vec![],
             not_computable: Some(why.clone()),
         },
