@@ -295,6 +295,10 @@ pub struct Around<'a> {
     pub demand: Demand,
     /// The lowest −log L (same weights) any variant before it reached.
     pub rival: f64,
+    /// Points (unit cube) run after the exploration, among which its local
+    /// search may start: a class of several effects' sub-classes' estimates
+    /// joined ([`super::joined_start`]); empty for a single effect.
+    pub starts: &'a [Vec<f64>],
 }
 
 /// Calibrates `cause` on runs `runs` of `bundle`; `n_eff` weights the
@@ -338,6 +342,10 @@ pub fn calibrate(
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &course.dims.own };
     search.run_design(&mut cal, &course, &mut report)?;
     search.emulator_rounds(&mut cal, &course, &mut report)?;
+    if let Some(starts) = around.map(|a| a.starts).filter(|s| !s.is_empty()) {
+        course.plan_more(starts.len());
+        search.evaluate_into(&mut cal, starts, &mut report)?;
+    }
     log_stage(&cal, "design and emulator rounds");
     let start = search.local_start(&mut cal, course.stages.coarse_starts, &mut report)?;
     cal.free = course.dims.own.clone();

@@ -24,6 +24,7 @@ pub mod executor;
 pub mod farm_executor;
 pub mod filter;
 pub mod fit;
+pub mod joined_start;
 pub mod levenberg;
 pub mod likelihood;
 pub mod linear_part;

@@ -21,6 +21,7 @@ use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
 use super::fit::{
     effective_sizes, mean_excess_nrmse, mean_nrmse, ChannelFit, Evaluation, Simulated,
 };
+use super::joined_start::joined_starts;
 use super::likelihood::{band_sizes, ChannelWeights};
 use super::linear_part::{self, calibrate_linear_part};
 use super::linear_stage::{self, LinearStage};
@@ -427,7 +428,8 @@ impl Variants {
 
     /// Calibrates class `c` on `runs` of `b` under weights `n_eff0` around
     /// the baseline's estimate, its rival the lowest −log L any class so far
-    /// reached ([`calibrate`] with [`Around`]).
+    /// reached, its sub-classes' estimates joined among its starts
+    /// ([`calibrate`] with [`Around`], [`joined_starts`]).
     fn calibrate_class(
         &self,
         c: Cause,
@@ -441,7 +443,8 @@ impl Variants {
         let rival =
             self.cals.iter().flat_map(|k| k.objective(n_eff0)).fold(f64::INFINITY, f64::min);
         let (base_u, base_priors, demand) = &self.base;
-        let around = Around { base: base_u, demand: *demand, rival };
+        let starts = joined_starts(c, &c.priors_on(base_priors), &self.cals, n_eff0);
+        let around = Around { base: base_u, demand: *demand, rival, starts: &starts };
         let mut report = |d, n| progress(&stage, d, n);
         calibrate(b, (c, base_priors), runs, n_eff0, budget, Some(around), exec, &mut report)
     }
