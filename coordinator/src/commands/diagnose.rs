@@ -306,6 +306,7 @@ fn print_verdict(v: &VerdictJson, d: &Diagnosis) {
         "cause: {} (gain {:.3}: validation error {:.3} -> {:.3}; {} FE points)",
         v.cause, v.gain, v.baseline_validation_error, v.extended_validation_error, v.fe_points
     );
+    eprintln!("load: {}", coordinator::diagnose::stage_load::summary(&d.stage_loads));
     if let Some(u) = &d.unexplained {
         eprintln!("warning: unexplained: no model explains the data within the noise:");
         for line in u.lines() {

@@ -330,6 +330,8 @@ pub fn calibrate(
     let ev = Evaluation { bundle, cause, priors: &priors, runs, demand, committed_share: 0.0 };
     let course = Course::of(&ev, budget, around);
     let mut report = |done| progress(done, course.planned.get());
+    // Names the stage before its first batch.
+    report(0);
     let mut cal = Calibration {
         cause,
         priors: priors.clone(),

@@ -125,8 +125,9 @@ pub struct EvidencePolicy {
     /// eight rounds do.
     pub restarts: usize,
     /// Levenberg–Marquardt steps of a resumed search, each (d + 2) FE runs (a
-    /// Jacobian and a trial): 3, the steps in which a search from a point
-    /// near a mode gained most of what it gained on the demo's classes.
+    /// Jacobian and a trial): 3, a bound on a restart's cost (a choice, not
+    /// measured: the next round's checks show whether it reached the mode,
+    /// and another restart follows when it did not).
     pub resume_steps: usize,
 }
 

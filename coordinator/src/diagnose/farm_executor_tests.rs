@@ -122,6 +122,11 @@ fn farm_matches_threads_and_a_stopped_diagnosis_resumes_from_its_store() {
     let mut threads = ThreadExecutor::new(2);
     let want = diagnose_with(&b, &opts, &mut threads, &mut |_, _, _| {}).unwrap();
     let total = threads.simulated();
+    // Every batch is charged to a stage, the first the channel weights'.
+    let metered: usize = want.stage_loads.iter().map(|l| l.fe_runs).sum();
+    assert_eq!(metered, total, "{:?}", want.stage_loads);
+    assert_eq!(want.stage_loads[0].fe_runs, 1, "{:?}", want.stage_loads[0]);
+    eprintln!("load: {}", crate::diagnose::stage_load::summary(&want.stage_loads));
     for c in &want.candidates {
         let odds = c.odds.as_ref().expect("asked for").as_ref().expect("computed");
         eprintln!("{}: {odds:?}", c.cause.as_str());
@@ -133,6 +138,7 @@ fn farm_matches_threads_and_a_stopped_diagnosis_resumes_from_its_store() {
     let got = diagnose_with(&b, &opts, &mut farm, &mut |_, _, _| {}).unwrap();
     let t_farm = t0.elapsed().as_secs_f64();
     assert_eq!(fingerprint(&got), fingerprint(&want), "in-process farm differs from threads");
+    assert_eq!(got.stage_loads, want.stage_loads, "a store changes no stage's load");
     // A point asked for twice runs once: the second time it is in the store.
     let distinct = farm.simulated();
     assert_eq!(distinct + farm.reused(), total);
@@ -151,6 +157,7 @@ fn farm_matches_threads_and_a_stopped_diagnosis_resumes_from_its_store() {
     let mut resumed = in_process(Some(store.clone()));
     let again = diagnose_with(&b, &opts, &mut resumed, &mut |_, _, _| {}).unwrap();
     assert_eq!(fingerprint(&again), fingerprint(&want), "resumed diagnosis differs");
+    assert_eq!(again.stage_loads, want.stage_loads, "resumed loads differ");
     assert_eq!(resumed.simulated(), distinct - first_points, "only the missing evaluations run");
     assert_eq!(resumed.simulated() + resumed.reused(), total);
     eprintln!(

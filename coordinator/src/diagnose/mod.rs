@@ -48,6 +48,7 @@ pub mod resume;
 pub mod ridge;
 pub mod spectrogram;
 pub mod spectrum;
+pub mod stage_load;
 pub mod symptoms;
 pub mod unexplained;
 pub mod verdict;

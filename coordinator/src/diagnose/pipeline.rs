@@ -31,9 +31,12 @@ use super::posterior::VariationalPosterior;
 use super::posterior_check::{checked_posterior, rounds as check_rounds};
 use super::refine::{planned_runs, refine, refine_walks, twin_walks};
 use super::resume::search_from;
+use super::stage_load::{CurrentStage, LoadMeter, StageLoad};
 use super::unexplained::{channel_misses, unexplained, Miss, Unexplained, Where};
 use crate::bundle::{Bundle, Direction, RunRole};
 use stats::gp::Gp;
+use std::cell::RefCell;
+use std::rc::Rc;
 
 /// Choices of a diagnosis.
 #[derive(Debug, Clone)]
@@ -241,6 +244,9 @@ pub struct Diagnosis {
     pub unexplained: Option<Unexplained>,
     /// The rule that named the cause.
     pub rule: VerdictRule,
+    /// The FE load each stage put on the executor, in order
+    /// ([`super::stage_load`]).
+    pub stage_loads: Vec<StageLoad>,
 }
 
 /// Splits runs by role; without roles, the strongest run validates.
@@ -304,8 +310,33 @@ pub fn diagnose(
 }
 
 /// Diagnoses a bundle, every FE simulation through `exec`; `progress`
-/// hears (stage, done, planned).
+/// hears (stage, done, planned). Each stage's FE load is metered
+/// ([`Diagnosis::stage_loads`]).
 pub fn diagnose_with(
+    b: &Bundle,
+    opts: &DiagnoseOptions,
+    exec: &mut dyn FeExecutor,
+    progress: &mut dyn FnMut(&str, usize, usize),
+) -> Result<Diagnosis, DiagnoseError> {
+    let current: CurrentStage = Rc::new(RefCell::new(WEIGHTS_STAGE.to_string()));
+    let mut meter = LoadMeter::new(exec, current.clone());
+    let mut named = |stage: &str, done, planned| {
+        if *current.borrow() != stage {
+            *current.borrow_mut() = stage.to_string();
+        }
+        progress(stage, done, planned)
+    };
+    let mut d = diagnose_stages(b, opts, &mut meter, &mut named)?;
+    d.stage_loads = meter.into_loads();
+    Ok(d)
+}
+
+/// The stage that fixes the time likelihood's channel weights: one FE run
+/// at the baseline prior's middle.
+const WEIGHTS_STAGE: &str = "channel weights (the baseline prior's middle)";
+
+/// The stages of [`diagnose_with`].
+fn diagnose_stages(
     b: &Bundle,
     opts: &DiagnoseOptions,
     exec: &mut dyn FeExecutor,
@@ -321,6 +352,7 @@ pub fn diagnose_with(
         }
         None => b,
     };
+    progress(WEIGHTS_STAGE, 0, 1);
     let n_eff0 = midpoint_weights(b, &cal_runs, exec)?;
     let mut v = calibrate_variants(b, &cal_runs, &n_eff0, opts, exec, progress)?;
     let n_eff = v.baseline_weights()?;
@@ -699,6 +731,7 @@ fn conclude(
         linear: None,
         unexplained: None,
         rule: VerdictRule::Mdl,
+        stage_loads: Vec::new(),
     }
 }
 

@@ -239,6 +239,7 @@ fn sdof_diagnosis(
         channels: None,
         linear: None,
         unexplained: None,
+        stage_loads: Vec::new(),
         rule: super::pipeline::VerdictRule::Mdl,
     }
 }

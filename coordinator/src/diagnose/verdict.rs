@@ -295,6 +295,25 @@ pub struct VerdictJson {
     /// The symptoms, when given ([`VerdictJson::with_symptoms`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub symptoms: Vec<SymptomJson>,
+    /// The FE load of each stage, in order (an extra field, which the
+    /// format allows; [`super::stage_load`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<StageJson>,
+}
+
+/// One stage's FE load, as written.
+#[derive(Debug, Clone, Serialize)]
+pub struct StageJson {
+    /// The stage.
+    pub stage: String,
+    /// Parameter points it asked for.
+    pub fe_runs: usize,
+    /// Batches it asked for them in.
+    pub batches: usize,
+    /// The largest batch.
+    pub widest: usize,
+    /// Mean points per batch: the runs in flight while it waited.
+    pub mean_in_flight: f64,
 }
 
 /// The verdict's word when no model explains the data.
@@ -452,6 +471,15 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
         }),
         linear_stage: d.linear.as_ref().map(|l| LinearJson::of(run_ids, l)),
         symptoms: vec![],
+        stages: (d.stage_loads.iter())
+            .map(|l| StageJson {
+                stage: l.stage.clone(),
+                fe_runs: l.fe_runs,
+                batches: l.batches,
+                widest: l.widest,
+                mean_in_flight: l.mean_in_flight(),
+            })
+            .collect(),
     }
 }
 
