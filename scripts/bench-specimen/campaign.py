@@ -1,12 +1,18 @@
 #!/usr/bin/env python3
 """One bench campaign of the second truth family, drawn from a seed.
 
-    campaign.py SEED --out DIR [--effect none|perimeter-pounding|perimeter-friction|connection-hysteresis]
+    campaign.py SEED --out DIR [--effect none|EFFECT[+EFFECT...]]
                                [--strength weak|moderate|strong] [--plan LXxLY] [--dry-run]
+
+    EFFECT: perimeter-pounding, perimeter-friction, connection-hysteresis
 
 The hidden cause rotates with the seed (seed-1 mod 4: none, pounding, friction,
 hysteresis; strength (seed-1) div 4 mod 3: strong, moderate, weak); --effect
-and --strength override it. Everything else is drawn from the seed.
+and --strength override it. Everything else is drawn from the seed. --effect
+may hide several effects at once, joined by '+' in any order (each once, never
+with none): the answer's cause names them in the order above, each is sized
+at --strength from the linear strong-run demand as it would be alone, and
+each must act in the strong run (else the campaign fails, writing nothing).
 
 Writes DIR as a `ceiling-measured/1` bundle (three 30 s sine sweeps at 200 Hz:
 weak and moderate calibrate, strong validates) and DIR/../NAME.truth.json
@@ -31,6 +37,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import truth as T  # noqa: E402
 
 EFFECTS = ["none", "perimeter-pounding", "perimeter-friction", "connection-hysteresis"]
+REGISTRY = EFFECTS[1:]  # the order a set of hidden effects is named in (ceilfarm's class names)
 STRENGTHS = {"strong": 0.3, "moderate": 0.55, "weak": 0.8}  # fraction of the linear strong-run demand
 FS = 200.0
 DURATION = 30.0
@@ -48,6 +55,25 @@ def sweep(n, dt, f0, f1, taper, phase=0.0):
     w[:m] = 0.5 - 0.5 * np.cos(np.pi * np.arange(m) / m)
     w[n - m:] = w[:m][::-1]
     return a * w
+
+
+def effect_set(text):
+    """--effect: 'none' or a '+'-joined set of effect names, any order, each once.
+    Returns the cause's name: the set in REGISTRY order joined by '+'."""
+    parts = text.split("+")
+    if any(q.strip() == "" for q in parts):
+        raise argparse.ArgumentTypeError(f"'{text}': an empty effect name (a '+' at an end or twice)")
+    for q in parts:
+        if q not in EFFECTS:
+            raise argparse.ArgumentTypeError(f"'{text}': unknown effect '{q}' (choose from {', '.join(EFFECTS)})")
+    if len(set(parts)) != len(parts):
+        dup = sorted({q for q in parts if parts.count(q) > 1})
+        raise argparse.ArgumentTypeError(f"'{text}': {', '.join(dup)} named more than once")
+    if "none" in parts:
+        if len(parts) > 1:
+            raise argparse.ArgumentTypeError(f"'{text}': 'none' hides nothing and cannot be combined with an effect")
+        return "none"
+    return "+".join(e for e in REGISTRY if e in parts)
 
 
 def p75(values):
@@ -84,6 +110,46 @@ def demand_ratio(effect, rec, lin_tr, s, truth):
     return 0.0
 
 
+def size_effect(effect, frac, shape, erng, lin_tr, s, on_shaken, n_ends, dirs, truth):
+    """One hidden effect's thresholds from the linear strong-run demand (s: its input
+    scale): a record for truth.json and the per-end (perimeter) or per-joint values."""
+    rec = {}
+    if effect == "perimeter-pounding":
+        dem = p75([lin_tr["peak_toward"][k] * s for k in on_shaken])
+        mean = frac * dem
+        per = [mean * (1 + shape["gap_scatter"] * erng.uniform(-1, 1)) for _ in range(n_ends)]
+        rec.update({"linear_demand_mm": dem, "gap_mean_mm": mean, "gaps_mm": per})
+    elif effect == "perimeter-friction":
+        ka = [truth["perimeter"]["K_along"] * f for f in truth["perimeter"]["along_factors"]]
+        dem = p75([lin_tr["peak_abs"][k] * s * ka[k] for k in on_shaken])
+        mean = frac * dem
+        per = [mean * (1 + shape["slip_scatter"] * erng.uniform(-1, 1)) for _ in range(n_ends)]
+        rec.update({"linear_demand_N": dem, "slip_force_mean_N": mean, "slip_forces_N": per})
+    else:
+        jp = np.asarray(lin_tr["joint_peak"]) * s
+        dem = [p75(jp[:, 0]), p75(jp[:, 1])]
+        measured = list(dem)
+        # a direction the table does not shake carries only parasitic forces: its
+        # yield force is the shaken direction's scaled by the joint stiffnesses
+        # (the same yield displacement), not a fraction of those small forces
+        kj = truth["joint_main_cross"]
+        if dirs == "x":
+            dem[1] = dem[0] * kj["transverse"] / kj["axial"]
+        elif dirs == "y":
+            dem[0] = dem[1] * kj["axial"] / kj["transverse"]
+        per = [[frac * dem[d] * (1 + shape["yield_scatter"] * erng.uniform(-1, 1)) for _ in range(len(jp))]
+               for d in (0, 1)]
+        rec.update({"linear_demand_N": {"axial_x": dem[0], "transverse_y": dem[1]},
+                    "linear_demand_p75_measured_N": {"axial_x": measured[0], "transverse_y": measured[1]},
+                    "yield_force_mean_N": {"axial_x": frac * dem[0], "transverse_y": frac * dem[1]},
+                    "yield_forces_N": {"axial_x": per[0], "transverse_y": per[1]}})
+    return rec, per
+
+
+EVENT_KEY = {"perimeter-pounding": "contact_events", "perimeter-friction": "slip_events",
+             "connection-hysteresis": "yield_events"}
+
+
 def linear_below(effect, shape, rec, lin_tr, s, truth):
     if effect == "perimeter-friction" and shape["law"] != "steel01":
         return False
@@ -98,7 +164,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("seed", type=int)
     ap.add_argument("--out", required=True)
-    ap.add_argument("--effect", choices=EFFECTS)
+    ap.add_argument("--effect", type=effect_set, metavar="none|EFFECT[+EFFECT...]",
+                    help="hide this cause (default: drawn from the seed); several effects joined by '+': "
+                         + ", ".join(REGISTRY))
     ap.add_argument("--strength", choices=list(STRENGTHS))
     ap.add_argument("--plan", help="LXxLY in metres, e.g. 2.4x3.6 (default: drawn)")
     ap.add_argument("--dry-run", action="store_true", help="print the draws that need no simulation and stop")
@@ -118,6 +186,8 @@ def main():
         strength = a.strength
     if effect == "none":
         strength = "-"
+    effects = [] if effect == "none" else effect.split("+")  # in REGISTRY order
+    combo = len(effects) > 1
 
     # --- plan
     small = [2.4, 3.0, 3.6, 4.2, 4.8]
@@ -135,7 +205,7 @@ def main():
             if v < 1.2 or abs(v / 0.6 - round(v / 0.6)) > 1e-9:
                 sys.exit(f"campaign.py: --plan {a.plan}: sides must be multiples of 0.6 m, at least 1.2 m")
 
-    truth = T.draw_truth(rng, lx, ly, force_springs=(effect == "connection-hysteresis"))
+    truth = T.draw_truth(rng, lx, ly, force_springs=("connection-hysteresis" in effects))
     grid = T.Grid(lx, ly)
 
     # --- runs: shaken direction(s), sweep, amplitudes
@@ -147,7 +217,7 @@ def main():
     input_units = str(rng.choice(["m/s2", "g"]))
     input_noise = T.u(rng, 0.0, 0.004)  # m/s2
     nsub_draw = int(rng.choice([3, 4]))
-    nsub = nsub_draw if effect == "perimeter-pounding" else 2
+    nsub = nsub_draw if "perimeter-pounding" in effects else 2
     daq = str(rng.choice(["antialias", "instant"]))
 
     # --- sensors: 3-6 at distinct grid nodes (not corners), >= 1 displacement
@@ -181,7 +251,9 @@ def main():
     modal_noise = rng.standard_normal(6)
     gap_nominal_factor = T.u(rng, 0.85, 1.15)
     noise_seed = int(rng.integers(1, 2**31))
-    shape = T.draw_effect_shape(rng, effect)  # last: the effect's form does not shift the other draws
+    # last: the effects' forms do not shift the other draws (several: one after the other, in REGISTRY order)
+    shapes = {e: T.draw_effect_shape(rng, e) for e in effects}
+    shape = shapes if combo else (shapes[effect] if effects else {})
     shape_seed = int(rng.integers(1, 2**31))
 
     if a.dry_run:
@@ -249,53 +321,46 @@ def main():
     scale_limited = min(max(scale, 0.02 * 9.80665), 0.5 * 9.80665)
     amp = {r: scale_limited * ratios[r] for r in ratios}
 
-    # --- the effect's strength from the linear strong-run demand
+    # --- each effect's strength from the linear strong-run demand (several: each as it would be
+    # alone, its scatter drawn after the previous one's from the same stream)
     frac = STRENGTHS.get(strength)
     erng = np.random.default_rng(shape_seed)
     effect_model = None
     eff_record = {"cause": effect, "strength": strength}
-    if effect != "none":
+    recs = {}
+    if effects:
         s = amp["strong"]
-        eff_record.update({"fraction_of_linear_demand": frac, "shape": shape})
-        if effect == "perimeter-pounding":
-            dem = p75([lin_tr["peak_toward"][k] * s for k in on_shaken])
-            mean = frac * dem
-            per = [mean * (1 + shape["gap_scatter"] * erng.uniform(-1, 1)) for _ in grid.ends]
-            eff_record.update({"linear_demand_mm": dem, "gap_mean_mm": mean, "gaps_mm": per})
-        elif effect == "perimeter-friction":
-            ka = [truth["perimeter"]["K_along"] * f for f in truth["perimeter"]["along_factors"]]
-            dem = p75([lin_tr["peak_abs"][k] * s * ka[k] for k in on_shaken])
-            mean = frac * dem
-            per = [mean * (1 + shape["slip_scatter"] * erng.uniform(-1, 1)) for _ in grid.ends]
-            eff_record.update({"linear_demand_N": dem, "slip_force_mean_N": mean, "slip_forces_N": per})
+        parts = []
+        for e in effects:
+            rec = {"cause": e, "strength": strength} if combo else eff_record
+            rec.update({"fraction_of_linear_demand": frac, "shape": shapes[e]})
+            sized, per = size_effect(e, frac, shapes[e], erng, lin_tr, s, on_shaken, len(grid.ends), dirs, truth)
+            rec.update(sized)
+            recs[e] = rec
+            parts.append({"cause": e, "shape": shapes[e], "per_end": per if e != "connection-hysteresis" else None,
+                          "per_joint": per if e == "connection-hysteresis" else None})
+        if combo:
+            eff_record.update({"fraction_of_linear_demand": frac, "causes": effects,
+                               "effects": [recs[e] for e in effects]})
+            effect_model = {"cause": effect, "parts": parts}
+            # every hidden effect must act in the strong run: its linear demand reaches 0.9
+            # of its threshold (by construction it does, as for a single effect; refuse if not)
+            quiet = [e for e in effects if linear_below(e, shapes[e], recs[e], lin_tr, s, truth)]
+            if quiet:
+                sys.exit(f"campaign.py: seed {a.seed}: {effect}: {', '.join(quiet)} would not act in the strong run "
+                         f"(linear demand below 0.9 of every threshold: "
+                         f"{', '.join(f'{demand_ratio(e, recs[e], lin_tr, s, truth):.3f}' for e in quiet)}); "
+                         f"nothing written")
         else:
-            jp = np.asarray(lin_tr["joint_peak"]) * s
-            dem = [p75(jp[:, 0]), p75(jp[:, 1])]
-            measured = list(dem)
-            # a direction the table does not shake carries only parasitic forces: its
-            # yield force is the shaken direction's scaled by the joint stiffnesses
-            # (the same yield displacement), not a fraction of those small forces
-            kj = truth["joint_main_cross"]
-            if dirs == "x":
-                dem[1] = dem[0] * kj["transverse"] / kj["axial"]
-            elif dirs == "y":
-                dem[0] = dem[1] * kj["axial"] / kj["transverse"]
-            per = [[frac * dem[d] * (1 + shape["yield_scatter"] * erng.uniform(-1, 1)) for _ in range(len(jp))]
-                   for d in (0, 1)]
-            eff_record.update({"linear_demand_N": {"axial_x": dem[0], "transverse_y": dem[1]},
-                               "linear_demand_p75_measured_N": {"axial_x": measured[0], "transverse_y": measured[1]},
-                               "yield_force_mean_N": {"axial_x": frac * dem[0], "transverse_y": frac * dem[1]},
-                               "yield_forces_N": {"axial_x": per[0], "transverse_y": per[1]}})
-        effect_model = {"cause": effect, "shape": shape, "per_end": per if effect != "connection-hysteresis" else None,
-                        "per_joint": per if effect == "connection-hysteresis" else None}
+            effect_model = parts[0]
 
     # --- the three runs
     run_names = ["weak", "moderate", "strong"]
     results = {}
     timings = {"linear_presimulation_s": t_pre}
-    track = {"perimeter-pounding": "perimeter", "perimeter-friction": "perimeter",
-             "connection-hysteresis": "all"}.get(effect)
-    for r in run_names:
+    track = ("all" if "connection-hysteresis" in effects else "perimeter") if effects else None
+    # several effects: the strong run first, so that one that does not act stops the campaign early
+    for r in (["strong", "weak", "moderate"] if combo else run_names):
         s = amp[r]
         if effect == "none":
             results[r] = {"disp": lin_disp * s, "acc": lin_acc * s, "events": None,
@@ -304,13 +369,16 @@ def main():
         # a run whose linear demand stays below 0.9 of every end's or connection's
         # threshold is exactly linear (these laws are elastic below it): scale the
         # pre-simulation instead of integrating it again (not for the rounded Steel02)
-        if linear_below(effect, shape, eff_record, lin_tr, s, truth):
+        ratio = {e: demand_ratio(e, recs[e], lin_tr, s, truth) for e in effects}
+        if all(linear_below(e, shapes[e], recs[e], lin_tr, s, truth) for e in effects):
             results[r] = {"disp": lin_disp * s, "acc": lin_acc * s, "peak_toward_max_mm": max(lin_tr["peak_toward"]) * s,
                           "events": {"linear_by_demand": True, "contact_events": 0, "slip_events": 0,
                                      "yield_events": 0, "rel_change_accel_vs_linear": 0.0,
                                      "rel_change_disp_vs_linear": 0.0,
                                      "peak_perimeter_mm": max(lin_tr["peak_abs"]) * s,
-                                     "demand_over_threshold_max": demand_ratio(effect, eff_record, lin_tr, s, truth)}}
+                                     "demand_over_threshold_max": max(ratio.values())}}
+            if combo:
+                results[r]["events"]["demand_over_threshold_by_effect"] = ratio
             timings[f"{r}_run_s"] = 0.0
             continue
         t0 = time.time()
@@ -329,15 +397,25 @@ def main():
         dchange = float(np.linalg.norm(dsp - lin_disp * s) / max(np.linalg.norm(lin_disp * s), 1e-12))
         ev = {k: tr[k] for k in ("contact_events", "contact_samples", "slip_events", "slip_samples",
                                  "yield_events", "yield_samples")}
-        ev.update({"linear_by_demand": False, "demand_over_threshold_max": demand_ratio(effect, eff_record, lin_tr, s, truth),
+        ev.update({"linear_by_demand": False, "demand_over_threshold_max": max(ratio.values()),
                    "halved_steps": mdl.halvings, "newton_steps": mdl.newton_steps, "retried_steps": mdl.retried, "rel_change_accel_vs_linear": change,
                    "rel_change_disp_vs_linear": dchange,
                    "peak_perimeter_mm": max(tr["peak_abs"]), "max_residual_mm": max(abs(v) for v in tr["residual"])})
         results[r] = {"disp": dsp, "acc": acc, "events": ev, "peak_toward_max_mm": max(tr["peak_toward"])}
+        if combo:
+            ev["demand_over_threshold_by_effect"] = ratio
+            ev["linear_by_demand_by_effect"] = {e: linear_below(e, shapes[e], recs[e], lin_tr, s, truth)
+                                                for e in effects}
+            if r == "strong":
+                idle = [e for e in effects if ev[EVENT_KEY[e]] == 0]
+                if idle:
+                    sys.exit(f"campaign.py: seed {a.seed}: {effect}: {', '.join(idle)} did not act in the strong run "
+                             f"({', '.join(f'0 {EVENT_KEY[e]}' for e in idle)}, though the linear demand reaches "
+                             f"{', '.join(f'{ratio[e]:.3f}' for e in idle)} of the threshold); nothing written")
 
     # --- nominal gap a lab would write
-    if effect == "perimeter-pounding":
-        nominal_gap = round(eff_record["gap_mean_mm"] * gap_nominal_factor, 1)
+    if "perimeter-pounding" in effects:
+        nominal_gap = round(recs["perimeter-pounding"]["gap_mean_mm"] * gap_nominal_factor, 1)
     else:
         nominal_gap = round(max(19.0, 1.5 * max(results[r]["peak_toward_max_mm"] for r in run_names)), 1)
 
@@ -452,11 +530,10 @@ def main():
         json.dump(doc, f, indent=1)
     ev = doc["events"]
     summ = ""
-    if effect != "none":
-        key = {"perimeter-pounding": "contact_events", "perimeter-friction": "slip_events",
-               "connection-hysteresis": "yield_events"}[effect]
-        summ = ", " + ", ".join(f"{r} {ev[r][key]} {key.replace('_', ' ')} (accel change "
-                                f"{ev[r]['rel_change_accel_vs_linear']:.3f})" for r in run_names)
+    if effects:
+        summ = ", " + ", ".join(f"{r} " + " ".join(f"{ev[r][EVENT_KEY[e]]} {EVENT_KEY[e].replace('_', ' ')}"
+                                                   for e in effects)
+                                + f" (accel change {ev[r]['rel_change_accel_vs_linear']:.3f})" for r in run_names)
     print(f"{name}: seed {a.seed}, {lx} x {ly} m, {effect} {strength}, shaken {dirs}, "
           f"f1..6 {' '.join(f'{m_['f_hz']:.2f}' for m_ in horiz[:6])} Hz, strong peak {amp['strong'] / 9.80665:.3f} g"
           f"{summ}; {timings['total_s']:.1f} s")

@@ -185,14 +185,20 @@ def draw_effect_shape(rng, effect):
 # OpenSees model
 # ----------------------------------------------------------------------------
 class Model:
-    """Builds the truth in OpenSees. `effect` is None (linear truth) or a dict
-    {"cause": ..., "shape": {...}, "per_end": [...] or "per_joint": {...}}."""
+    """Builds the truth in OpenSees. `effect` is None (linear truth), one hidden
+    effect {"cause": ..., "shape": {...}, "per_end": [...] or "per_joint": {...}},
+    or several at once {"cause": "a+b", "parts": [one such dict per effect]}.
+    Pounding and friction together act in parallel at each perimeter end: the
+    along spring slips (friction) and the contact closes (pounding) on the same
+    end-to-wall displacement."""
 
     log_path = None
 
     def __init__(self, truth, effect=None):
         self.t = truth
         self.effect = effect
+        # the hidden effects by name (one, several or none)
+        self.effects = {p["cause"]: p for p in (effect.get("parts") or [effect])} if effect else {}
         self.g = Grid(*truth["plan_m"])
         self._tag = 0
         self._mat = 0
@@ -277,10 +283,10 @@ class Model:
                 kk = [k["transverse"], k["axial"], k["vertical"], k["bend_vertical"], k["torsion"], k["bend_plan"]]
             mats = [self._elastic(v * sc) for v in kk]
             rec = {"kind": kind, "i": i, "j": j, "side": side, "node": n, "grid": gn, "k": [v * sc for v in kk]}
-            if kind == "main-cross" and self.effect and self.effect["cause"] == "connection-hysteresis":
+            if kind == "main-cross" and "connection-hysteresis" in self.effects:
                 idx = len([q for q in self.joints if q["kind"] == "main-cross"])
                 for d in (0, 1):
-                    f1 = self.effect["per_joint"][d][idx]
+                    f1 = self.effects["connection-hysteresis"]["per_joint"][d][idx]
                     mats[d] = self._hysteretic(rec["k"][d], f1)
                     rec.setdefault("yield", [None, None])[d] = f1
             self._etag += 1
@@ -382,7 +388,6 @@ class Model:
         # --- perimeter
         P = t["perimeter"]
         self.ends = []
-        eff = self.effect["cause"] if self.effect else "none"
         for e, (i, j, axis, sign) in enumerate(g.ends):
             gn = self.grid[(i, j)]
             x, y, _ = ops.nodeCoord(gn)
@@ -390,9 +395,9 @@ class Model:
             ops.fix(wall, 1, 1, 1, 1, 1, 1)
             ka = P["K_along"] * P["along_factors"][e]
             rec = {"i": i, "j": j, "axis": axis, "sign": sign, "node": gn, "k_along": ka}
-            if eff == "perimeter-friction":
-                sh = self.effect["shape"]
-                fy = self.effect["per_end"][e]
+            if "perimeter-friction" in self.effects:
+                sh = self.effects["perimeter-friction"]["shape"]
+                fy = self.effects["perimeter-friction"]["per_end"][e]
                 self._mat += 1
                 if sh["law"] == "steel01":
                     ops.uniaxialMaterial("Steel01", self._mat, fy, ka, sh["hardening"])
@@ -412,9 +417,11 @@ class Model:
             self._etag += 1
             ops.element("zeroLength", self._etag, *pair, "-mat", along, "-dir", axis + 1, "-doRayleigh", 1)
             rec["ele_along"] = self._etag
-            if eff == "perimeter-pounding":
-                sh = self.effect["shape"]
-                gap = self.effect["per_end"][e]
+            if "perimeter-pounding" in self.effects:
+                # in parallel with the along spring (slipping or not): the contact
+                # closes on the end's own displacement towards the wall
+                sh = self.effects["perimeter-pounding"]["shape"]
+                gap = self.effects["perimeter-pounding"]["per_end"][e]
                 self._mat += 1
                 if sh["law"] == "impact-bilinear":
                     ops.uniaxialMaterial("ImpactMaterial", self._mat, sh["k_contact"], sh["k_contact"] * sh["k2_ratio"],
@@ -455,7 +462,7 @@ class Model:
         self.total_mass_t = sum(self.node_mass.values())
 
     def _hysteretic(self, k0, f1):
-        sh = self.effect["shape"]
+        sh = self.effects["connection-hysteresis"]["shape"]
         d1 = f1 / k0
         f2 = f1 * sh["r2"]
         d2 = d1 + (f2 - f1) / (k0 * sh["a2"])
@@ -586,7 +593,8 @@ class Tracker:
         self.contact_samples = 0
         self.slip_events = 0
         self.slip_samples = 0
-        self.was = np.zeros(ne, dtype=bool)
+        self.was_contact = np.zeros(ne, dtype=bool)
+        self.was_slip = np.zeros(ne, dtype=bool)  # an end may both pound and slip
         mj = [q for q in model.joints if q["kind"] == "main-cross"]
         self.mj = mj
         self.jpeak = np.zeros((len(mj), 2))
@@ -605,19 +613,19 @@ class Tracker:
                 if abs(d) > self.peak_abs[e]:
                     self.peak_abs[e] = abs(d)
                 self.last[e] = d
-                now = False
                 if "ele_contact" in rec:
                     now = w > rec["gap"]
                     self.contact_samples += now
-                    if now and not self.was[e]:
+                    if now and not self.was_contact[e]:
                         self.contact_events += 1
-                elif "slip_force" in rec:
+                    self.was_contact[e] = now
+                if "slip_force" in rec:
                     f = ops.eleResponse(rec["ele_along"], "basicForce")[0]
                     now = abs(f) >= rec["slip_detect"] * rec["slip_force"]
                     self.slip_samples += now
-                    if now and not self.was[e]:
+                    if now and not self.was_slip[e]:
                         self.slip_events += 1
-                self.was[e] = now
+                    self.was_slip[e] = now
         if self.what in ("joints", "all"):
             for q, rec in enumerate(self.mj):
                 f = ops.eleResponse(rec["ele"], "basicForce")
