@@ -77,7 +77,7 @@ use crate::bundle::Bundle;
 use nalgebra::{DMatrix, DVector};
 use stats::calibration::UniformBox;
 use stats::evidence::{
-    check_indices, correct_evidence, CorrectedEvidence, SmcOptions, TemperedSmc,
+    check_indices, correct_evidence, CorrectedEvidence, SmcError, SmcOptions, Start, TemperedSmc,
 };
 use stats::gp::{fit, Gp, GpError, GpSettings, InputScaling, MeanKind};
 
@@ -85,7 +85,8 @@ use stats::gp::{fit, Gp, GpError, GpSettings, InputScaling, MeanKind};
 #[derive(Debug, Clone, PartialEq)]
 pub struct EvidencePolicy {
     /// Emulator rounds at most (each one SMC run and `checks` FE runs; at
-    /// least two, as the stop rule compares consecutive rounds).
+    /// least two without annealing, as the stop rule compares consecutive
+    /// rounds; one is then settled by the annealing alone).
     pub rounds: usize,
     /// FE runs per round at the emulated posterior's particles: 40 puts the
     /// correction's standard error near 0.15 nat when L/L̃ varies by a
@@ -124,6 +125,19 @@ pub struct EvidencePolicy {
     /// checks, so that the resumed searches cost at most about what the
     /// eight rounds do.
     pub restarts: usize,
+    /// FE runs the annealing from the last round's emulated posterior to
+    /// the FE posterior may spend when the rounds did not settle
+    /// ([`Annealed`]; 0: none): 640, 8 stages of 40 particles moved twice,
+    /// about the eight rounds' own 320 twice over.
+    pub anneal_runs: usize,
+    /// Metropolis steps per particle and annealing stage: 2, so that a
+    /// particle moves about a proposal's width from its resampled copies.
+    pub anneal_steps: usize,
+    /// Standard error (nat) at or below which an annealed evidence that
+    /// reached the FE posterior counts as settled: 1, the Jeffreys scale's
+    /// "not worth more than a bare mention" (40 particles cannot give the
+    /// rounds' 0.3).
+    pub anneal_sd_nats: f64,
     /// Levenberg–Marquardt steps of a resumed search, each (d + 2) FE runs (a
     /// Jacobian and a trial): 3, a bound on a restart's cost (a choice, not
     /// measured: the next round's checks show whether it reached the mode,
@@ -144,6 +158,9 @@ impl Default for EvidencePolicy {
             effect_prior: 0.5,
             restarts: 4,
             resume_steps: 3,
+            anneal_runs: 640,
+            anneal_steps: 2,
+            anneal_sd_nats: 1.0,
         }
     }
 }
@@ -181,15 +198,21 @@ impl EvidencePolicy {
         let bad = |key: &'static str, value: String, expected: &'static str| {
             Err(ClassEvidenceError::Policy { key, value, expected })
         };
-        if self.rounds < 2 {
+        if self.rounds < 2 && self.anneal_runs == 0 {
             return bad(
                 "rounds",
                 self.rounds.to_string(),
-                "at least 2 (the stop rule compares two)",
+                "at least 2 without annealing (the stop rule compares two)",
             );
         }
         if self.checks < 2 {
             return bad("checks", self.checks.to_string(), "at least 2");
+        }
+        if self.anneal_steps < 1 {
+            return bad("anneal_steps", self.anneal_steps.to_string(), "at least 1");
+        }
+        if !(self.anneal_sd_nats > 0.0 && self.anneal_sd_nats.is_finite()) {
+            return bad("anneal_sd_nats", self.anneal_sd_nats.to_string(), "a positive number");
         }
         if self.resume_steps < 1 {
             return bad("resume_steps", self.resume_steps.to_string(), "at least 1");
@@ -268,6 +291,34 @@ pub struct ClassEvidence {
     pub restarts: usize,
     /// Where the rounds stopped for higher ground (None: they did not).
     pub higher_ground: Option<HigherGround>,
+    /// The annealing from the last round's emulated posterior to the FE
+    /// posterior, when the rounds did not settle (None: not run).
+    pub annealed: Option<Annealed>,
+}
+
+/// The evidence annealed from the last round's emulated posterior to the
+/// FE posterior: a tempered SMC ([`stats::evidence::TemperedSmc::run_from`])
+/// from the round's checked particles (draws of p·L̃, normaliser Z̃) along
+/// p·L̃·(L/L̃)^β, β from 0 to 1, each stage's particles moved by Metropolis
+/// steps that run the FE model. One round's correction is this path in a
+/// single step without moves; where the emulator is wrong over much of its
+/// posterior that step's weights are too uneven to trust (k̂ ≫ 0.7), while
+/// the stages reweight gradually and move the particles to where the FE
+/// model puts its mass.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Annealed {
+    /// ln Z (nat): ln Z̃ plus the stages' increments.
+    pub ln_evidence: f64,
+    /// Its standard error: Z̃'s and the stages' (genealogy estimator).
+    pub ln_evidence_sd: f64,
+    /// Stages run.
+    pub stages: usize,
+    /// FE runs of its moves.
+    pub fe_points: usize,
+    /// Whether β reached 1 within [`EvidencePolicy::anneal_runs`].
+    pub reached: bool,
+    /// The temperature reached.
+    pub beta: f64,
 }
 
 /// Why a class's evidence could not be computed.
@@ -383,6 +434,7 @@ fn evidence_rounds(
         policy,
         laplace: start.clone(),
         ledger: cal.points.iter().map(|p| (p.u.clone(), -p.neg_log_lik_by(&lik), false)).collect(),
+        last: None,
     };
     let (mut rounds, mut fe_points) = (Vec::new(), 0);
     let mut last: Option<CorrectedEvidence> = None;
@@ -407,7 +459,11 @@ fn evidence_rounds(
     let Some(c) = last else {
         return Err(ClassEvidenceError::NoCheck { rounds: rounds.len() });
     };
-    Ok(ClassEvidence {
+    let annealed = match converged || higher_ground.is_some() || policy.anneal_runs == 0 {
+        true => None,
+        false => driver.anneal(exec)?,
+    };
+    let mut got = ClassEvidence {
         ln_evidence: c.ln_evidence,
         ln_evidence_sd: c.ln_evidence_sd,
         k_hat: c.k_hat,
@@ -418,7 +474,18 @@ fn evidence_rounds(
         likelihood: policy.likelihood,
         restarts: 0,
         higher_ground,
-    })
+        annealed: None,
+    };
+    if let Some(a) = annealed {
+        got.fe_points += a.fe_points;
+        if a.reached {
+            got.ln_evidence = a.ln_evidence;
+            got.ln_evidence_sd = a.ln_evidence_sd;
+            got.converged = a.ln_evidence_sd <= policy.anneal_sd_nats;
+        }
+        got.annealed = Some(a);
+    }
+    Ok(got)
 }
 
 /// The state the rounds share: the quadratic and the ledger.
@@ -428,6 +495,20 @@ struct Rounds<'a> {
     policy: &'a EvidencePolicy,
     laplace: Laplace,
     ledger: Vec<Entry>,
+    /// The last round's emulator, SMC run and checks, which the annealing
+    /// starts from ([`Rounds::anneal`]).
+    last: Option<LastRound>,
+}
+
+/// What the annealing needs of the last round.
+struct LastRound {
+    em: Emulator,
+    /// The emulator's ln Z̃ and its standard error.
+    ln_z: (f64, f64),
+    /// The checked particles, their emulated and their FE ln L.
+    checks: Vec<(Vec<f64>, f64, f64)>,
+    /// The round (from 0), for the annealing's seed.
+    round: usize,
 }
 
 impl Rounds<'_> {
@@ -469,9 +550,83 @@ impl Rounds<'_> {
             corrected: correct_evidence(&run, &idx, &exact),
             rise_nats,
         };
+        let emulated = idx.iter().map(|&i| run.ln_likelihood[i]);
+        let checked = (checks.iter().cloned().zip(emulated).zip(exact.iter().copied()))
+            .map(|((u, e), x)| (u, e, x))
+            .collect();
+        let ln_z = (run.ln_evidence, run.ln_evidence_sd);
+        self.last = Some(LastRound { em, ln_z, checks: checked, round });
         self.ledger.extend(checks.into_iter().zip(exact).map(|(u, l)| (u, l, true)));
         Ok((record, highest))
     }
+
+    /// The annealing from the last round ([`Annealed`]); None without a
+    /// last round or when its checks all failed.
+    fn anneal(&self, exec: &mut dyn FeExecutor) -> Result<Option<Annealed>, ClassEvidenceError> {
+        let Some(last) = &self.last else { return Ok(None) };
+        let (em, policy) = (&last.em, self.policy);
+        let n = last.checks.len();
+        let start = Start {
+            x: last.checks.iter().map(|c| c.0.clone()).collect(),
+            ln_l: last.checks.iter().map(|c| c.2 - c.1).collect(),
+            ln_z: last.ln_z.0,
+        };
+        if n < 2 || start.ln_l.iter().all(|v| *v == f64::NEG_INFINITY) {
+            return Ok(None);
+        }
+        let per_stage = n * policy.anneal_steps;
+        let options = SmcOptions {
+            mcmc_steps: policy.anneal_steps,
+            max_stages: (policy.anneal_runs / per_stage).max(1),
+            seed: policy.smc.seed.wrapping_add(1000 + last.round as u64),
+            ..policy.smc.clone()
+        };
+        let in_cube = |u: &[f64]| u.iter().all(|v| (0.0..=1.0).contains(v));
+        let ln_base = |u: &[f64]| match in_cube(u) {
+            true => em.ln_l(&[u.to_vec()]).map_or(f64::NEG_INFINITY, |v| v[0]),
+            false => f64::NEG_INFINITY,
+        };
+        let mut spent = 0;
+        let mut ratio = |us: &[Vec<f64>]| -> Result<Vec<f64>, AnnealError> {
+            let emulated = em.ln_l(us)?;
+            let points = evaluate_points(&self.ev, us, exec)?;
+            spent += us.len();
+            let exact = points.iter().map(|p| -p.neg_log_lik_by(&self.lik));
+            Ok(exact.zip(emulated).map(|(x, e)| x - e).collect())
+        };
+        let smc = TemperedSmc::new(options);
+        let (run, beta_reached) = match smc.run_from(start, &ln_base, &mut ratio) {
+            Ok(run) => (Some(run), 1.0),
+            Err(SmcError::Stages { beta, stages }) => {
+                tracing::debug!(beta, stages, "annealing ran out of FE runs");
+                (None, beta)
+            }
+            Err(SmcError::Likelihood(AnnealError::Executor(e))) => return Err(e.into()),
+            Err(e) => {
+                let message = format!("annealing: {e}");
+                return Err(ClassEvidenceError::Smc { round: last.round + 1, message });
+            }
+        };
+        let reached = run.is_some();
+        let (ln_evidence, sd, stages) = match &run {
+            Some(r) => (r.ln_evidence, r.ln_evidence_sd, r.stages.len()),
+            None => (f64::NAN, f64::INFINITY, (policy.anneal_runs / per_stage).max(1)),
+        };
+        let ln_evidence_sd = (last.ln_z.1.powi(2) + sd.powi(2)).sqrt();
+        let beta = beta_reached;
+        Ok(Some(Annealed { ln_evidence, ln_evidence_sd, stages, fe_points: spent, reached, beta }))
+    }
+}
+
+/// Why an annealing step could not get its log-ratios.
+#[derive(Debug, thiserror::Error)]
+enum AnnealError {
+    /// The FE executor could not deliver.
+    #[error(transparent)]
+    Executor(#[from] ExecutorError),
+    /// The emulator could not predict.
+    #[error("emulator: {0}")]
+    Emulator(#[from] GpError),
 }
 
 /// The median over `cal`'s points of the rise of −ln L under `lik` from its
@@ -638,19 +793,19 @@ type Entry = (Vec<f64>, f64, bool);
 /// capped, a region the emulator is unsure of is a plateau the SMC spreads
 /// over and the checks sample, which is what an importance proposal should
 /// do.
-struct Emulator<'a> {
-    laplace: &'a Laplace,
+struct Emulator {
+    laplace: Laplace,
     gp: Option<Gp>,
     /// The best FE ln L.
     cap: f64,
 }
 
-impl<'a> Emulator<'a> {
+impl Emulator {
     /// The residual GP through the checks and the other points within
     /// `floor` nats of the best by ln L or by q (failed simulations at the
     /// floor); the quadratic alone when fewer than d + 2 such
     /// points exist or the GP cannot be fitted.
-    fn fit(laplace: &'a Laplace, ledger: &[Entry], floor: f64) -> Self {
+    fn fit(laplace: &Laplace, ledger: &[Entry], floor: f64) -> Self {
         let best =
             ledger.iter().map(|p| p.1).filter(|v| v.is_finite()).fold(laplace.mode.1, f64::max);
         let low = best - floor;
@@ -665,7 +820,7 @@ impl<'a> Emulator<'a> {
             }
         }
         let gp = (y.len() >= d + 2).then(|| residual_gp(&x, d, &y)).flatten();
-        Emulator { laplace, gp, cap: best }
+        Emulator { laplace: laplace.clone(), gp, cap: best }
     }
 
     /// Points the residual GP was fitted through (0: none).

@@ -200,6 +200,43 @@ fn matches_quadrature(kind: LikelihoodKind) {
         assert!(diff.abs() <= 1.0, "curvature x {factor}: {diff:+.3} nat");
     }
     from_short_of_the_mode(&cal, (&b, &cal_runs), w, &mut exec, (&policy, &n_eff), ln_z_quad);
+    annealed_alone(&cal, (&b, &cal_runs), w, &mut exec, &policy, ln_z_quad);
+}
+
+/// The annealing alone: one round from the best point with a curvature 30
+/// times too small (the emulator the Laplace form alone, its posterior 5.5
+/// times too wide), then the annealing from its emulated posterior; it must reach the FE posterior and the quadrature's
+/// `ln_z_quad` within 1 nat.
+fn annealed_alone(
+    cal: &Calibration,
+    data: (&Bundle, &[usize]),
+    w: ChannelWeights<'_>,
+    exec: &mut ThreadExecutor,
+    policy: &EvidencePolicy,
+    ln_z_quad: f64,
+) {
+    let lik = policy.likelihood.with(w);
+    let mut off = cal.clone();
+    off.points = vec![cal.points[cal.best_by(&lik).unwrap()].clone()];
+    off.gauss_newton = off.gauss_newton.map(|h| h / 30.0);
+    let never = EvidencePolicy { rounds: 1, ..policy.clone() };
+    let got = class_evidence(&off, data, w, exec, &never).unwrap();
+    let a = got.annealed.clone().expect("the rounds did not settle: the annealing runs");
+    eprintln!(
+        "{:?}, annealed: {:.3} ± {:.3} ({} stages, {} FE runs, β {}; rounds {:?})",
+        policy.likelihood,
+        a.ln_evidence,
+        a.ln_evidence_sd,
+        a.stages,
+        a.fe_points,
+        a.beta,
+        got.rounds.iter().map(|r| r.corrected.as_ref().map(|c| c.ln_evidence)).collect::<Vec<_>>()
+    );
+    assert!(a.reached, "{a:?}");
+    assert!(got.converged, "{a:?}");
+    assert_eq!(got.ln_evidence, a.ln_evidence);
+    let diff = a.ln_evidence - ln_z_quad;
+    assert!(diff.abs() <= 1.0, "annealed: {diff:+.3} nat");
 }
 
 /// A calibration that stopped short of the mode (its one point the
@@ -254,7 +291,7 @@ const SHORT_NATS: f64 = 15.0;
 #[test]
 fn a_policy_out_of_range_is_refused_with_its_key() {
     let bad = [
-        EvidencePolicy { rounds: 1, ..EvidencePolicy::default() },
+        EvidencePolicy { rounds: 1, anneal_runs: 0, ..EvidencePolicy::default() },
         EvidencePolicy { checks: 1, ..EvidencePolicy::default() },
         EvidencePolicy { floor_nats: (0.0, 10.0), ..EvidencePolicy::default() },
         EvidencePolicy { floor_nats: (20.0, f64::NAN), ..EvidencePolicy::default() },

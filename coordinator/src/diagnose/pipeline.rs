@@ -1383,6 +1383,7 @@ mod tests {
                     likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
                     restarts: 0,
                     higher_ground: None,
+                    annealed: None,
                 };
                 Ok(ClassOdds { evidence, probability: f64::NAN, effect_prior: 0.5 })
             });

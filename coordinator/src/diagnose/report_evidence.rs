@@ -145,6 +145,7 @@ mod tests {
             likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
             restarts: 0,
             higher_ground: None,
+            annealed: None,
         };
         ClassOdds { evidence, probability: p, effect_prior: 0.5 }
     }

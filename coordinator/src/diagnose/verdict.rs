@@ -100,6 +100,10 @@ pub struct EvidenceJson {
     /// evidence's checks found (absent when none).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub restarts: Option<usize>,
+    /// The annealing from the last round's emulated posterior to the FE
+    /// posterior, when the rounds did not settle.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub annealed: Option<AnnealedJson>,
     /// Each round: emulated ln Z, corrected ln Z, its standard error, k̂
     /// (null where every check failed).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -107,6 +111,21 @@ pub struct EvidenceJson {
     /// Why there is no evidence.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_computable: Option<String>,
+}
+
+/// An annealed evidence as written.
+#[derive(Debug, Clone, Serialize)]
+pub struct AnnealedJson {
+    /// ln Z (nat; null when it did not reach the FE posterior).
+    pub ln_evidence: Option<f64>,
+    /// Its standard error.
+    pub ln_evidence_sd: Option<f64>,
+    /// Stages run.
+    pub stages: usize,
+    /// FE runs of its moves.
+    pub fe_points: usize,
+    /// The temperature reached (1: the FE posterior).
+    pub beta: f64,
 }
 
 /// One round as written: emulated ln Z, then the corrected ln Z, its
@@ -138,6 +157,13 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                 laplace_ln_evidence: Some(e.laplace_ln_evidence),
                 fe_points: e.fe_points,
                 restarts: (e.restarts > 0).then_some(e.restarts),
+                annealed: e.annealed.as_ref().map(|a| AnnealedJson {
+                    ln_evidence: a.reached.then_some(a.ln_evidence),
+                    ln_evidence_sd: a.reached.then_some(a.ln_evidence_sd),
+                    stages: a.stages,
+                    fe_points: a.fe_points,
+                    beta: a.beta,
+                }),
                 rounds: e.rounds.iter().map(round_json).collect(),
                 not_computable: None,
             }
@@ -154,6 +180,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
             laplace_ln_evidence: None,
             fe_points: 0,
             restarts: None,
+            annealed: None,
             rounds: vec![],
             not_computable: Some(why.clone()),
         },

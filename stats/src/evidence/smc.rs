@@ -111,6 +111,18 @@ pub struct TemperedSmc {
     pub options: SmcOptions,
 }
 
+/// Where [`TemperedSmc::run_from`] starts: an equally weighted population
+/// of the base density, its log-likelihoods, the base's ln normaliser.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Start {
+    /// The particles.
+    pub x: Vec<Vec<f64>>,
+    /// Their log-likelihoods (−∞ for zero likelihood).
+    pub ln_l: Vec<f64>,
+    /// ln of the base density's normaliser (0 for a normalised prior).
+    pub ln_z: f64,
+}
+
 type Batch<'a, E> = dyn FnMut(&[Vec<f64>]) -> Result<Vec<f64>, E> + 'a;
 
 impl TemperedSmc {
@@ -129,17 +141,57 @@ impl TemperedSmc {
         let o = &self.options;
         check_options(o)?;
         let n = o.particles;
-        let d = prior.dim();
         let mut rng = ChaCha8Rng::seed_from_u64(o.seed);
-        let mut x: Vec<Vec<f64>> = (0..n).map(|_| prior.sample(&mut rng)).collect();
-        let mut ln_p: Vec<f64> = x.iter().map(|xi| prior.ln_density(xi)).collect();
-        let mut ln_l = evaluate(ln_likelihood, &x)?;
-        let mut evaluations = n;
+        let x: Vec<Vec<f64>> = (0..n).map(|_| prior.sample(&mut rng)).collect();
+        let ln_l = evaluate(ln_likelihood, &x)?;
         if ln_l.iter().all(|v| *v == f64::NEG_INFINITY) {
             return Err(SmcError::NoSupport { particles: n });
         }
+        let start = Start { x, ln_l, ln_z: 0.0 };
+        self.anneal(start, &|x: &[f64]| prior.ln_density(x), ln_likelihood, &mut rng)
+    }
+
+    /// Runs from an equally weighted population `start.x` of a base density
+    /// `ln_base` (log, up to its normaliser e^`start.ln_z`; −∞ outside its
+    /// support) to base × likelihood, `start.ln_l` the log-likelihoods at
+    /// the population, `ln_likelihood` as in [`run`](Self::run). The
+    /// evidence is the base's normaliser times the likelihood's mean under
+    /// the base, estimated by tempering (`options.particles` is ignored: the
+    /// population is `start.x`). [`run`](Self::run) is this from prior draws.
+    pub fn run_from<E: std::error::Error + 'static>(
+        &self,
+        start: Start,
+        ln_base: &dyn Fn(&[f64]) -> f64,
+        ln_likelihood: &mut Batch<'_, E>,
+    ) -> Result<SmcRun, SmcError<E>> {
+        check_options(&SmcOptions { particles: start.x.len(), ..self.options.clone() })?;
+        if start.x.len() != start.ln_l.len() {
+            let (asked, got) = (start.x.len(), start.ln_l.len());
+            return Err(SmcError::BatchSize { asked, got });
+        }
+        if start.ln_l.iter().all(|v| *v == f64::NEG_INFINITY) {
+            return Err(SmcError::NoSupport { particles: start.x.len() });
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(self.options.seed);
+        self.anneal(start, ln_base, ln_likelihood, &mut rng)
+    }
+
+    /// The tempering loop from `start` (see [`run_from`](Self::run_from)).
+    fn anneal<E: std::error::Error + 'static>(
+        &self,
+        start: Start,
+        ln_base: &dyn Fn(&[f64]) -> f64,
+        ln_likelihood: &mut Batch<'_, E>,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<SmcRun, SmcError<E>> {
+        let o = &self.options;
+        let Start { mut x, mut ln_l, ln_z: ln_z0 } = start;
+        let n = x.len();
+        let d = x.first().map_or(1, Vec::len);
+        let mut ln_p: Vec<f64> = x.iter().map(|xi| ln_base(xi)).collect();
+        let mut evaluations = n;
         let mut eve: Vec<usize> = (0..n).collect();
-        let (mut beta, mut ln_z, mut rel_var, mut distinct) = (0.0, 0.0, f64::INFINITY, n);
+        let (mut beta, mut ln_z, mut rel_var, mut distinct) = (0.0, ln_z0, f64::INFINITY, n);
         let mut scale = 2.38 / (d.max(1) as f64).sqrt();
         let mut stages = Vec::new();
         while beta < 1.0 {
@@ -159,7 +211,7 @@ impl TemperedSmc {
                 distinct = count_distinct(&eve, &w);
             }
             let factor = proposal_factor(&weighted_covariance(&x, &w));
-            let anc = multinomial(&w, &mut rng);
+            let anc = multinomial(&w, rng);
             x = anc.iter().map(|&a| x[a].clone()).collect();
             ln_l = anc.iter().map(|&a| ln_l[a]).collect();
             ln_p = anc.iter().map(|&a| ln_p[a]).collect();
@@ -167,13 +219,13 @@ impl TemperedSmc {
             beta = next;
             let mut pop = Population { x: &mut x, ln_l: &mut ln_l, ln_p: &mut ln_p };
             let moved = self.move_population(
-                prior,
+                ln_base,
                 ln_likelihood,
                 &mut pop,
                 &factor,
                 &mut scale,
                 beta,
-                &mut rng,
+                rng,
             )?;
             evaluations += moved.0;
             stages.push(SmcStage {
@@ -202,9 +254,9 @@ impl TemperedSmc {
     /// batches asked for: a step whose proposals all leave the support asks none)
     /// and steers `scale` toward the target acceptance after every step.
     #[allow(clippy::too_many_arguments)]
-    fn move_population<P: Prior + ?Sized, E: std::error::Error + 'static>(
+    fn move_population<E: std::error::Error + 'static>(
         &self,
-        prior: &P,
+        ln_base: &dyn Fn(&[f64]) -> f64,
         ln_likelihood: &mut Batch<'_, E>,
         pop: &mut Population<'_>,
         factor: &nalgebra::DMatrix<f64>,
@@ -214,11 +266,11 @@ impl TemperedSmc {
     ) -> Result<(usize, f64, usize), SmcError<E>> {
         let o = &self.options;
         let n = pop.x.len();
-        let base = 2.38 / (prior.dim().max(1) as f64).sqrt();
+        let base = 2.38 / (factor.nrows().max(1) as f64).sqrt();
         let (mut evaluations, mut accepted, mut batches) = (0, 0, 0);
         for _ in 0..o.mcmc_steps {
             let y = propose(pop.x, factor, *scale, rng);
-            let ln_p_y: Vec<f64> = y.iter().map(|yi| prior.ln_density(yi)).collect();
+            let ln_p_y: Vec<f64> = y.iter().map(|yi| ln_base(yi)).collect();
             let inside: Vec<usize> = (0..n).filter(|&i| ln_p_y[i].is_finite()).collect();
             let asked: Vec<Vec<f64>> = inside.iter().map(|&i| y[i].clone()).collect();
             let got = if asked.is_empty() { Vec::new() } else { evaluate(ln_likelihood, &asked)? };
