@@ -3,6 +3,7 @@
 //! posterior probability and how the estimate settled, as a table and a
 //! bar chart of the log Bayes factors against the best class.
 
+use super::class_evidence::ClassEvidence;
 use super::class_odds::ClassOdds;
 use super::likelihood::LikelihoodKind;
 use super::pipeline::{Diagnosis, VerdictRule};
@@ -102,13 +103,33 @@ fn likelihood_words(odds: &[Option<&Result<ClassOdds, String>>]) -> &'static str
     }
 }
 
+/// Whether an evidence settled and how: by its rounds, by the annealing
+/// (its stages), or not (its rounds, and the temperature the annealing
+/// reached); after how many restarts of its calibration's search.
+fn settled_words(e: &ClassEvidence) -> String {
+    let how = match (&e.annealed, e.converged) {
+        (None, true) => "yes".to_string(),
+        (None, false) => format!("no ({} rounds)", e.rounds.len()),
+        (Some(a), true) => format!("yes (annealed, {} stages)", a.stages),
+        (Some(a), false) if a.reached => {
+            format!("no (annealed, error {:.2} nat)", a.ln_evidence_sd)
+        }
+        (Some(a), false) => {
+            format!("no ({} rounds; annealing reached β = {:.3})", e.rounds.len(), a.beta)
+        }
+    };
+    match e.restarts {
+        0 => how,
+        k => format!("{how}, after {k} restarts"),
+    }
+}
+
 /// One table row.
 fn row(cause: &str, o: Option<&Result<ClassOdds, String>>, best: f64) -> Vec<String> {
     let why = match o {
         Some(Ok(o)) => {
             let e = &o.evidence;
-            let settled =
-                if e.converged { "yes".into() } else { format!("no ({} rounds)", e.rounds.len()) };
+            let settled = settled_words(e);
             return vec![
                 cause.into(),
                 format!("{:.2}", e.ln_evidence - best),
@@ -175,5 +196,32 @@ mod tests {
         assert_eq!(t.rows[1][3], "1.000");
         assert!(t.rows[2][1].contains("no Gauss–Newton matrix"), "{:?}", t.rows[2]);
         assert!(t.rows.iter().all(|r| r.len() == t.header.len()));
+    }
+
+    #[test]
+    fn the_settled_column_says_how_and_after_how_many_restarts() {
+        use crate::diagnose::class_evidence::Annealed;
+        let mut e = odds(1.0, 1.0).evidence;
+        assert_eq!(settled_words(&e), "yes");
+        e.converged = false;
+        assert_eq!(settled_words(&e), "no (0 rounds)");
+        let a = Annealed {
+            ln_evidence: f64::NAN,
+            ln_evidence_sd: f64::INFINITY,
+            stages: 8,
+            fe_points: 600,
+            reached: false,
+            beta: 0.0625,
+        };
+        e.annealed = Some(a.clone());
+        e.restarts = 4;
+        assert_eq!(
+            settled_words(&e),
+            "no (0 rounds; annealing reached β = 0.062), after 4 restarts"
+        );
+        e.annealed = Some(Annealed { reached: true, stages: 2, ln_evidence_sd: 0.3, ..a });
+        e.converged = true;
+        e.restarts = 0;
+        assert_eq!(settled_words(&e), "yes (annealed, 2 stages)");
     }
 }
