@@ -530,9 +530,14 @@ fn calibrate_variants(
         v.cals.push(cal);
         v.linear_parts.push(part);
     }
+    progress(POLISH_STAGE, 0, 1);
     polish_baseline(b, &mut v, cal_runs, n_eff0, exec)?;
+    progress(POLISH_STAGE, 1, 1);
     Ok(v)
 }
+
+/// The stage of [`polish_baseline`].
+const POLISH_STAGE: &str = "the baseline at the extensions' estimates";
 
 /// Evaluates the baseline at each extension's estimate of the baseline's
 /// parameters (one FE point each, in one batch), so that its best point is
