@@ -610,12 +610,15 @@ fn held_point(priors: &[Prior], base: &[f64]) -> Vec<f64> {
     priors
         .iter()
         .enumerate()
-        .map(|(i, p)| match (base.get(i), p.reference) {
-            (Some(u), _) => *u,
-            (None, Some(r)) => p.unit(r).clamp(0.0, 1.0),
-            (None, None) => 0.5,
-        })
+        .map(|(i, p)| base.get(i).copied().unwrap_or_else(|| held_unit(p)))
         .collect()
+}
+
+/// Where an extension's exploration holds a parameter the baseline does not
+/// have (unit cube): its reference (a shape parameter's seed value), else
+/// the middle of its prior.
+pub(super) fn held_unit(p: &Prior) -> f64 {
+    p.reference.map_or(0.5, |r| p.unit(r).clamp(0.0, 1.0))
 }
 
 /// Distances (unit cube) probed each way along the least-determined direction.

@@ -307,17 +307,15 @@ pub struct ClassEvidence {
 /// model puts its mass.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Annealed {
-    /// ln Z (nat): ln Z̃ plus the stages' increments.
-    pub ln_evidence: f64,
-    /// Its standard error: Z̃'s and the stages' (genealogy estimator).
-    pub ln_evidence_sd: f64,
+    /// ln Z (nat: ln Z̃ plus the stages' increments) and its standard error
+    /// (Z̃'s and the stages', genealogy estimator), when β reached 1 within
+    /// [`EvidencePolicy::anneal_runs`] (None: the FE runs ran out first).
+    pub estimate: Option<(f64, f64)>,
     /// Stages run.
     pub stages: usize,
     /// FE runs of its moves.
     pub fe_points: usize,
-    /// Whether β reached 1 within [`EvidencePolicy::anneal_runs`].
-    pub reached: bool,
-    /// The temperature reached.
+    /// The temperature reached (1: the FE posterior).
     pub beta: f64,
 }
 
@@ -394,14 +392,15 @@ pub fn settled_evidence(
     policy: &EvidencePolicy,
     resume: &mut Resume<'_>,
 ) -> Result<ClassEvidence, ClassEvidenceError> {
-    let mut spent = 0;
-    for restarts in 0.. {
+    let (mut spent, mut restarts) = (0, 0);
+    loop {
         let stop = restarts < policy.restarts;
         let mut got = evidence_rounds(cal, data, w, exec, policy, stop)?;
         spent += got.fe_points;
         got.restarts = restarts;
         got.fe_points = spent;
-        let Some(high) = got.higher_ground.as_ref().filter(|_| stop) else { return Ok(got) };
+        // Only rounds asked to stop for higher ground report it.
+        let Some(high) = &got.higher_ground else { return Ok(got) };
         tracing::debug!(
             cause = cal.cause.as_str(),
             restarts,
@@ -409,8 +408,8 @@ pub fn settled_evidence(
             "higher ground"
         );
         resume(cal, high.u.clone(), exec)?;
+        restarts += 1;
     }
-    unreachable!("the loop returns once the restarts are spent")
 }
 
 /// The rounds of [`class_evidence`]; with `stop_higher` they stop at the
@@ -478,10 +477,10 @@ fn evidence_rounds(
     };
     if let Some(a) = annealed {
         got.fe_points += a.fe_points;
-        if a.reached {
-            got.ln_evidence = a.ln_evidence;
-            got.ln_evidence_sd = a.ln_evidence_sd;
-            got.converged = a.ln_evidence_sd <= policy.anneal_sd_nats;
+        if let Some((ln_evidence, sd)) = a.estimate {
+            got.ln_evidence = ln_evidence;
+            got.ln_evidence_sd = sd;
+            got.converged = sd <= policy.anneal_sd_nats;
         }
         got.annealed = Some(a);
     }
@@ -574,10 +573,10 @@ impl Rounds<'_> {
         if n < 2 || start.ln_l.iter().all(|v| *v == f64::NEG_INFINITY) {
             return Ok(None);
         }
-        let per_stage = n * policy.anneal_steps;
+        let max_stages = (policy.anneal_runs / (n * policy.anneal_steps)).max(1);
         let options = SmcOptions {
             mcmc_steps: policy.anneal_steps,
-            max_stages: (policy.anneal_runs / per_stage).max(1),
+            max_stages,
             seed: policy.smc.seed.wrapping_add(1000 + last.round as u64),
             ..policy.smc.clone()
         };
@@ -595,11 +594,14 @@ impl Rounds<'_> {
             Ok(exact.zip(emulated).map(|(x, e)| x - e).collect())
         };
         let smc = TemperedSmc::new(options);
-        let (run, beta_reached) = match smc.run_from(start, &ln_base, &mut ratio) {
-            Ok(run) => (Some(run), 1.0),
+        let (estimate, stages, beta) = match smc.run_from(start, &ln_base, &mut ratio) {
+            Ok(run) => {
+                let sd = (last.ln_z.1.powi(2) + run.ln_evidence_sd.powi(2)).sqrt();
+                (Some((run.ln_evidence, sd)), run.stages.len(), 1.0)
+            }
             Err(SmcError::Stages { beta, stages }) => {
                 tracing::debug!(beta, stages, "annealing ran out of FE runs");
-                (None, beta)
+                (None, stages, beta)
             }
             Err(SmcError::Likelihood(AnnealError::Executor(e))) => return Err(e.into()),
             Err(e) => {
@@ -607,14 +609,7 @@ impl Rounds<'_> {
                 return Err(ClassEvidenceError::Smc { round: last.round + 1, message });
             }
         };
-        let reached = run.is_some();
-        let (ln_evidence, sd, stages) = match &run {
-            Some(r) => (r.ln_evidence, r.ln_evidence_sd, r.stages.len()),
-            None => (f64::NAN, f64::INFINITY, (policy.anneal_runs / per_stage).max(1)),
-        };
-        let ln_evidence_sd = (last.ln_z.1.powi(2) + sd.powi(2)).sqrt();
-        let beta = beta_reached;
-        Ok(Some(Annealed { ln_evidence, ln_evidence_sd, stages, fe_points: spent, reached, beta }))
+        Ok(Some(Annealed { estimate, stages, fe_points: spent, beta }))
     }
 }
 

@@ -67,19 +67,29 @@ pub fn class_odds(
         });
     }
     progress(cals.len(), cals.len());
-    let ln_post: Vec<f64> = (out.iter().zip(cals.iter()))
-        .map(|(o, c)| {
-            let settled =
-                o.as_ref().ok().and_then(|o| settled_ln_posterior(o, c.cause, policy.effect_prior));
-            settled.unwrap_or(f64::NAN)
-        })
+    let classes = cals.iter().map(|c| c.cause).zip(out.iter_mut().map(|o| o.as_mut().ok()));
+    renormalise(classes, policy.effect_prior);
+    Ok(out)
+}
+
+/// Sets each class's posterior probability among `classes` (its cause and
+/// its odds, None for one without an evidence): evidence times prior
+/// (`effect_prior`, [`ln_prior`]) over those whose evidence settled
+/// ([`settled_ln_posterior`]); NaN for the others.
+pub fn renormalise<'o>(
+    classes: impl Iterator<Item = (Cause, Option<&'o mut ClassOdds>)>,
+    effect_prior: f64,
+) {
+    let mut classes: Vec<(Cause, Option<&mut ClassOdds>)> = classes.collect();
+    let ln_post: Vec<f64> = (classes.iter())
+        .map(|(c, o)| o.as_ref().and_then(|o| settled_ln_posterior(o, *c, effect_prior)))
+        .map(|z| z.unwrap_or(f64::NAN))
         .collect();
-    for (o, p) in out.iter_mut().zip(probabilities(&ln_post)) {
-        if let Ok(o) = o {
+    for ((_, o), p) in classes.iter_mut().zip(probabilities(&ln_post)) {
+        if let Some(o) = o {
             o.probability = p;
         }
     }
-    Ok(out)
 }
 
 /// The unnormalised log-posterior of class `cause` (its log-evidence plus

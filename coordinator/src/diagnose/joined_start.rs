@@ -9,7 +9,7 @@
 //! the best sub-class that calibrated them, is one start; the class's own
 //! search then begins from the best of its exploration and these.
 
-use super::calibrate::Calibration;
+use super::calibrate::{held_unit, Calibration};
 use super::cause::{Cause, Prior};
 
 /// The starts of class `c` (its priors `priors`, unit cube) joined from the
@@ -34,13 +34,12 @@ pub fn joined_starts(
     let value = |cal: &Calibration, k: usize, name: &str| {
         cal.priors.iter().position(|p| p.name == name).map(|i| cal.points[k].u[i])
     };
-    let held = |p: &Prior| p.reference.map_or(0.5, |r| p.unit(r).clamp(0.0, 1.0));
     let mut starts: Vec<Vec<f64>> = Vec::new();
     for (_, primary, k) in &donors {
         let u: Vec<f64> = (priors.iter())
             .map(|p| {
                 let from_rest = || donors.iter().find_map(|(_, d, j)| value(d, *j, p.name));
-                value(primary, *k, p.name).or_else(from_rest).unwrap_or_else(|| held(p))
+                value(primary, *k, p.name).or_else(from_rest).unwrap_or_else(|| held_unit(p))
             })
             .collect();
         if !starts.contains(&u) {

@@ -11,7 +11,7 @@ use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
 use super::class_evidence::EvidencePolicy;
-use super::class_odds::{class_odds, probabilities, settled_ln_posterior, ClassOdds};
+use super::class_odds::{class_odds, renormalise, settled_ln_posterior, ClassOdds};
 use super::class_search::{search_classes, Tried};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
@@ -939,13 +939,9 @@ impl After<'_> {
             Ok(z)
         };
         search_classes(&mut tried, &allowed, &mut try_class)?;
-        let ln_post: Vec<f64> =
-            results.iter().map(|r| ln_posterior(r, prior).unwrap_or(f64::NAN)).collect();
-        for (r, p) in results.iter_mut().zip(probabilities(&ln_post)) {
-            if let Some(Ok(o)) = &mut r.odds {
-                o.probability = p;
-            }
-        }
+        let classes =
+            results.iter_mut().map(|r| (r.cause, r.odds.as_mut().and_then(|o| o.as_mut().ok())));
+        renormalise(classes, prior);
         Ok(())
     }
 

@@ -111,12 +111,10 @@ fn settled_words(e: &ClassEvidence) -> String {
         (None, true) => "yes".to_string(),
         (None, false) => format!("no ({} rounds)", e.rounds.len()),
         (Some(a), true) => format!("yes (annealed, {} stages)", a.stages),
-        (Some(a), false) if a.reached => {
-            format!("no (annealed, error {:.2} nat)", a.ln_evidence_sd)
-        }
-        (Some(a), false) => {
-            format!("no ({} rounds; annealing reached β = {:.3})", e.rounds.len(), a.beta)
-        }
+        (Some(a), false) => match a.estimate {
+            Some((_, sd)) => format!("no (annealed, error {sd:.2} nat)"),
+            None => format!("no ({} rounds; annealing reached β = {:.3})", e.rounds.len(), a.beta),
+        },
     };
     match e.restarts {
         0 => how,
@@ -205,21 +203,14 @@ mod tests {
         assert_eq!(settled_words(&e), "yes");
         e.converged = false;
         assert_eq!(settled_words(&e), "no (0 rounds)");
-        let a = Annealed {
-            ln_evidence: f64::NAN,
-            ln_evidence_sd: f64::INFINITY,
-            stages: 8,
-            fe_points: 600,
-            reached: false,
-            beta: 0.0625,
-        };
+        let a = Annealed { estimate: None, stages: 8, fe_points: 600, beta: 0.0625 };
         e.annealed = Some(a.clone());
         e.restarts = 4;
         assert_eq!(
             settled_words(&e),
             "no (0 rounds; annealing reached β = 0.062), after 4 restarts"
         );
-        e.annealed = Some(Annealed { reached: true, stages: 2, ln_evidence_sd: 0.3, ..a });
+        e.annealed = Some(Annealed { estimate: Some((1.0, 0.3)), stages: 2, beta: 1.0, ..a });
         e.converged = true;
         e.restarts = 0;
         assert_eq!(settled_words(&e), "yes (annealed, 2 stages)");

@@ -36,7 +36,7 @@ pub fn search_from(
     let before = cal.best(n_eff).map_or(f64::INFINITY, |k| cal.objective(n_eff)[k]);
     let all: Vec<usize> = (0..cal.priors.len()).collect();
     // The extension's own parameters take the extension's difference steps.
-    let own: Vec<usize> = (cal.n_base()..cal.priors.len()).collect();
+    let own = cal.own_parameters();
     let mut found = cal.restarted(all.clone());
     let ev = cal.evaluation(bundle, runs);
     let mut search = Search { ev: &ev, n_eff, budget, exec, own: &own };

@@ -158,8 +158,8 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                 fe_points: e.fe_points,
                 restarts: (e.restarts > 0).then_some(e.restarts),
                 annealed: e.annealed.as_ref().map(|a| AnnealedJson {
-                    ln_evidence: a.reached.then_some(a.ln_evidence),
-                    ln_evidence_sd: a.reached.then_some(a.ln_evidence_sd),
+                    ln_evidence: a.estimate.map(|e| e.0),
+                    ln_evidence_sd: a.estimate.map(|e| e.1),
                     stages: a.stages,
                     fe_points: a.fe_points,
                     beta: a.beta,
