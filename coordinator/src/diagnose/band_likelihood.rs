@@ -49,6 +49,44 @@ pub fn model_band_fit(r: &[f64], dt_s: f64) -> Option<BandFit> {
     band_neg_log_lik(r, dt_s, model_band_hz(dt_s), SUB_BAND_HZ)
 }
 
+/// Residual `r` (step `dt_s`) filtered to the model's band: the Fourier
+/// bins [`model_band_fit`] counts kept, every other (the mean among them)
+/// zeroed; missing readings (NaN) count as zero after the mean of those
+/// present is removed, as there. Its mean square is that fit's
+/// [`BandFit::mean_square`] (Parseval), so the band likelihood's
+/// Σ_c dof_c / 2 · ln(mean square_c) is a weighted sum of log sums of
+/// squares of these residuals, whose forward differences give its
+/// Gauss–Newton matrix ([`super::levenberg`]). Empty when the band holds no
+/// bin or the inputs are not usable.
+pub fn model_band_pass(r: &[f64], dt_s: f64) -> Vec<f64> {
+    let (lo, hi) = model_band_hz(dt_s);
+    let present: Vec<f64> = r.iter().copied().filter(|v| v.is_finite()).collect();
+    if !(dt_s > 0.0 && dt_s.is_finite()) || r.len() < 2 || present.is_empty() {
+        return Vec::new();
+    }
+    let mean = present.iter().sum::<f64>() / present.len() as f64;
+    let n = r.len();
+    let mut x: Vec<Complex64> =
+        r.iter().map(|v| Complex64::new(if v.is_finite() { v - mean } else { 0.0 }, 0.0)).collect();
+    let mut planner = FftPlanner::new();
+    planner.plan_fft_forward(n).process(&mut x);
+    let t_s = n as f64 * dt_s;
+    let kept = |k: usize| {
+        let k = k.min(n - k);
+        let f_hz = k as f64 / t_s;
+        k >= 1 && 2 * k < n && f_hz >= lo && f_hz <= hi
+    };
+    if !(1..n).any(kept) {
+        return Vec::new();
+    }
+    x.iter_mut()
+        .enumerate()
+        .filter(|(k, _)| !kept(*k))
+        .for_each(|(_, c)| *c = Complex64::default());
+    planner.plan_fft_inverse(n).process(&mut x);
+    x.iter().map(|c| c.re / n as f64).collect()
+}
+
 /// The band likelihood of one residual, and its power within the band.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BandFit {
@@ -212,6 +250,29 @@ mod tests {
         let w = band_neg_log_lik(&white_noise(20_000, 1.0, 9), 0.01, (0.0, 40.0), 2.0).unwrap();
         assert!((w.dof / (2.0 * w.bins as f64) - 1.0).abs() < 0.02, "{w:?}");
         assert!((w.mean_square / (0.8 / 3.0) - 1.0).abs() < 0.03, "{w:?}");
+    }
+
+    #[test]
+    fn the_band_passed_residual_carries_the_band_fits_mean_square() {
+        // White noise at 100 Hz: the band (to 40 Hz) keeps about 0.8 of it.
+        for (r, dt_s) in [(white_noise(3001, 1.0, 4), 0.01), (residual(200.0), 0.005)] {
+            let fit = model_band_fit(&r, dt_s).unwrap();
+            let y = model_band_pass(&r, dt_s);
+            let ms = y.iter().map(|v| v * v).sum::<f64>() / y.len() as f64;
+            assert_eq!(y.len(), r.len());
+            assert!((ms / fit.mean_square - 1.0).abs() < 1e-9, "{ms} vs {fit:?}");
+        }
+        // A sinusoid inside the band passes whole; one above it not at all.
+        let n = 1000;
+        let wave = |f_hz: f64| -> Vec<f64> {
+            (0..n).map(|i| (2.0 * std::f64::consts::PI * f_hz * i as f64 * 0.005).sin()).collect()
+        };
+        let inside = wave(12.0);
+        let y = model_band_pass(&inside, 0.005);
+        assert!(y.iter().zip(&inside).all(|(a, b)| (a - b).abs() < 1e-9));
+        assert!(model_band_pass(&wave(60.0), 0.005).iter().all(|v| v.abs() < 1e-9));
+        assert!(model_band_pass(&[f64::NAN; 8], 0.01).is_empty());
+        assert!(model_band_pass(&inside, 0.0).is_empty());
     }
 
     #[test]

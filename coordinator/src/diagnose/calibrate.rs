@@ -228,6 +228,11 @@ pub enum Scale {
     Fine,
     /// The windowed RMS misfits (phase-free, broad optimum).
     Coarse,
+    /// The time histories filtered to the model's band under the band
+    /// likelihood ([`super::likelihood::Likelihood::Band`]: the search's
+    /// weights are the channels' in-band degrees of freedom), the one a
+    /// class's evidence integrates.
+    Band,
 }
 
 /// One evaluation with its time-history and windowed residuals.

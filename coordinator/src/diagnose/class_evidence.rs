@@ -7,10 +7,13 @@
 //! campaign (two 2 s runs) its posterior fills about 1e-6 of the baseline's
 //! cube, so no space-filling design lands in it and a stationary emulator
 //! over the cube sees a flat floor with a needle. The evidence therefore
-//! starts where the class's calibration ended ([`super::calibrate`]): its
-//! best point u* and the Gauss–Newton matrix H of −ln L there. One driver
+//! starts with a local search of the likelihood it integrates
+//! ([`super::resume::peak_search`]: Levenberg–Marquardt on that
+//! likelihood's own residuals, the band-passed ones under the band
+//! likelihood), from the class calibration's best point under it: its best
+//! point u* and the Gauss–Newton matrix H of −ln L there. One driver
 //! then runs rounds over one ledger of FE evaluations (the calibration's
-//! first):
+//! and the search's first):
 //!
 //! 1. **Emulator**: ln L̃ = q + r, never above the best FE value seen
 //!    ([`Emulator`]). q(u) = ln L(u*) − ½ (u − u*)ᵀ H (u − u*) is the
@@ -43,10 +46,10 @@
 //!    the last round's, with its error).
 //! 5. **Resume** ([`settled_evidence`]): when a round's checks rise above
 //!    every FE value before them by more than [`rise_limit`] (d/2 nats),
-//!    the calibration's best point was not the posterior's mode and every
-//!    form built at it is wrong; the rounds stop, the calibration's local
-//!    search resumes from the highest check, and the evidence starts again
-//!    at its new best point, at most [`EvidencePolicy::restarts`] times.
+//!    the start was not the posterior's mode and every form built at it is
+//!    wrong; the rounds stop, the local search resumes from the highest
+//!    check, and the evidence starts again at its new best point, at most
+//!    [`EvidencePolicy::restarts`] times.
 //!    An emulator cannot find a mode hundreds of nats above its start
 //!    through a posterior it has to guess: on a friction-and-pounding
 //!    campaign the rounds' emulated evidence rose by 660 nats over eight
@@ -61,13 +64,16 @@
 //! ln L is the likelihood the policy names ([`EvidencePolicy::likelihood`],
 //! [`super::likelihood`]; the modal term included): the same for every
 //! class judged on the same data, so evidences compare. The band
-//! likelihood (the default) is not the one the calibration minimised, so
-//! its start is the calibration's best point under it, and H, the time
-//! likelihood's curvature, is scaled by the median ratio of the two
-//! likelihoods' rises from their best over the calibration's points
-//! ([`rise_ratio`]); the rounds' refit of the quadratic to the ledger
-//! corrects what a single scale cannot (from a curvature 30 times off,
-//! the test campaign's evidence was within 0.06 nat of quadrature).
+//! likelihood (the default) is not the one the calibration minimised: its
+//! mode and curvature are its own search's. (Before, the start was the
+//! calibration's best point under it with the time likelihood's curvature
+//! scaled by the median ratio of the two likelihoods' rises; on the
+//! combined classes of two project-model campaigns that form was so far
+//! from the band posterior that FE checks and emulator differed by hundreds
+//! to thousands of nats and no round settled.) The rounds' refit of the
+//! quadratic to the ledger corrects a curvature the search got wrong (from
+//! one 30 times off, the test campaign's evidence was within 0.06 nat of
+//! quadrature).
 
 use super::calibrate::{evaluate_points, Calibration};
 use super::executor::{ExecutorError, FeExecutor};
@@ -360,54 +366,67 @@ pub enum ClassEvidenceError {
 }
 
 /// The evidence of `cal`'s class on `runs` of `bundle` under the policy's
-/// likelihood (`w`: the diagnosis's channel weights; `cal`'s Gauss–Newton
-/// matrix is the curvature of the time likelihood under `w.n_eff`),
-/// its FE runs through `exec`, by the rounds of `policy` (see the module
-/// doc; the rounds never stop for higher ground here).
+/// likelihood (`w`: the diagnosis's channel weights), its rounds started
+/// at `cal`'s best point under it with curvature `h` (the Gauss–Newton
+/// matrix of that −ln L, unit cube), its FE runs through `exec`, by the
+/// rounds of `policy` (see the module doc; the rounds never stop for higher
+/// ground here).
 pub fn class_evidence(
     cal: &Calibration,
+    h: &DMatrix<f64>,
     data: (&Bundle, &[usize]),
     w: ChannelWeights<'_>,
     exec: &mut dyn FeExecutor,
     policy: &EvidencePolicy,
 ) -> Result<ClassEvidence, ClassEvidenceError> {
-    evidence_rounds(cal, data, w, exec, policy, false)
+    evidence_rounds(cal, h, data, w, exec, policy, false)
 }
 
-/// Resumes a calibration's local search from a point (unit cube), its FE
-/// runs through the executor given.
-pub type Resume<'r> =
-    dyn FnMut(&mut Calibration, Vec<f64>, &mut dyn FeExecutor) -> Result<(), ExecutorError> + 'r;
+/// The local search of the likelihood the evidence integrates from a point
+/// (unit cube) over a calibration, its points joining it, its FE runs
+/// through the executor given: the Gauss–Newton matrix of −ln L where it
+/// ended (None: it could not linearise) ([`super::resume::peak_search`]).
+pub type PeakSearch<'r> = dyn FnMut(
+        &mut Calibration,
+        Vec<f64>,
+        &mut dyn FeExecutor,
+    ) -> Result<Option<DMatrix<f64>>, ExecutorError>
+    + 'r;
 
-/// [`class_evidence`] whose rounds stop when a check finds higher ground
-/// ([`rise_limit`]): `resume` then searches `cal` from it and the evidence
-/// starts again, at most [`EvidencePolicy::restarts`] times (the last
-/// start's rounds run to their end). The estimate counts every start's FE
-/// checks; the resumed searches' runs join `cal`.
+/// [`class_evidence`] from `search`'s end: from `cal`'s best point under
+/// the policy's likelihood first, then, when a round's checks find higher
+/// ground ([`rise_limit`]), from there, the evidence started again, at most
+/// [`EvidencePolicy::restarts`] times (the last start's rounds run to
+/// their end). The estimate counts every start's FE checks; the searches'
+/// runs join `cal`.
 pub fn settled_evidence(
     cal: &mut Calibration,
     data: (&Bundle, &[usize]),
     w: ChannelWeights<'_>,
     exec: &mut dyn FeExecutor,
     policy: &EvidencePolicy,
-    resume: &mut Resume<'_>,
+    search: &mut PeakSearch<'_>,
 ) -> Result<ClassEvidence, ClassEvidenceError> {
+    let cause = cal.cause.as_str();
+    let lik = policy.likelihood.with(w);
+    let best =
+        cal.best_by(&lik).ok_or(ClassEvidenceError::Start { cause, what: "no point simulated" })?;
+    let mut from = cal.points[best].u.clone();
     let (mut spent, mut restarts) = (0, 0);
     loop {
+        let h = search(cal, from, exec)?.ok_or(ClassEvidenceError::Start {
+            cause,
+            what: "no Gauss–Newton matrix (its local search could not linearise)",
+        })?;
         let stop = restarts < policy.restarts;
-        let mut got = evidence_rounds(cal, data, w, exec, policy, stop)?;
+        let mut got = evidence_rounds(cal, &h, data, w, exec, policy, stop)?;
         spent += got.fe_points;
         got.restarts = restarts;
         got.fe_points = spent;
         // Only rounds asked to stop for higher ground report it.
         let Some(high) = &got.higher_ground else { return Ok(got) };
-        tracing::debug!(
-            cause = cal.cause.as_str(),
-            restarts,
-            rise = high.rise_nats,
-            "higher ground"
-        );
-        resume(cal, high.u.clone(), exec)?;
+        tracing::debug!(cause, restarts, rise = high.rise_nats, "higher ground");
+        from = high.u.clone();
         restarts += 1;
     }
 }
@@ -416,6 +435,7 @@ pub fn settled_evidence(
 /// first unsettled round whose checks found higher ground.
 fn evidence_rounds(
     cal: &Calibration,
+    h: &DMatrix<f64>,
     (bundle, runs): (&Bundle, &[usize]),
     w: ChannelWeights<'_>,
     exec: &mut dyn FeExecutor,
@@ -425,8 +445,7 @@ fn evidence_rounds(
     policy.check()?;
     let lik = policy.likelihood.with(w);
     let d = cal.priors.len();
-    let scale = rise_ratio(cal, w.n_eff, &lik, policy.floor(d));
-    let start = Laplace::of(cal, &lik, scale)?;
+    let start = Laplace::of(cal, &lik, h)?;
     let mut driver = Rounds {
         ev: cal.evaluation(bundle, runs),
         lik,
@@ -624,33 +643,6 @@ enum AnnealError {
     Emulator(#[from] GpError),
 }
 
-/// The median over `cal`'s points of the rise of −ln L under `lik` from its
-/// best over that under the time weights `n_eff` (the likelihood `cal`'s
-/// Gauss–Newton matrix belongs to), counting the points whose time rise
-/// lies within `floor` nats and above 0.5 (rounding); 1 for the time
-/// likelihood itself or without such points.
-fn rise_ratio(cal: &Calibration, n_eff: &[f64], lik: &Likelihood, floor: f64) -> f64 {
-    if matches!(lik, Likelihood::Time(_)) {
-        return 1.0;
-    }
-    let time = cal.objective(n_eff);
-    let other = cal.objective_by(lik);
-    let low = |v: &[f64]| v.iter().copied().filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min);
-    let (t0, o0) = (low(&time), low(&other));
-    let mut ratios: Vec<f64> = time
-        .iter()
-        .zip(&other)
-        .filter(|(t, o)| t.is_finite() && o.is_finite() && **t - t0 > 0.5 && **t - t0 <= floor)
-        .map(|(t, o)| (o - o0) / (t - t0))
-        .filter(|r| *r > 0.0)
-        .collect();
-    if ratios.is_empty() {
-        return 1.0;
-    }
-    ratios.sort_by(f64::total_cmp);
-    ratios[ratios.len() / 2]
-}
-
 /// The Laplace approximation at the calibration's best point.
 #[derive(Debug, Clone)]
 struct Laplace {
@@ -661,23 +653,27 @@ struct Laplace {
 }
 
 impl Laplace {
-    /// From `cal`'s best point under `lik` and its Gauss–Newton matrix
-    /// times `scale`. A direction without curvature (a parameter the last
-    /// local search held) takes the precision of the prior's own spread
-    /// there (12: a uniform on [0, 1] has variance 1/12), added on the
-    /// diagonal.
-    fn of(cal: &Calibration, lik: &Likelihood, scale: f64) -> Result<Laplace, ClassEvidenceError> {
+    /// From `cal`'s best point under `lik` and the Gauss–Newton matrix `h`
+    /// of −ln L. A direction without curvature (a parameter a local search
+    /// held) takes the precision of the prior's own spread there (12: a
+    /// uniform on [0, 1] has variance 1/12), added on the diagonal.
+    fn of(
+        cal: &Calibration,
+        lik: &Likelihood,
+        h: &DMatrix<f64>,
+    ) -> Result<Laplace, ClassEvidenceError> {
         let cause = cal.cause.as_str();
         let best = cal
             .best_by(lik)
             .ok_or(ClassEvidenceError::Start { cause, what: "no point simulated" })?;
-        let h = cal.gauss_newton.clone().ok_or(ClassEvidenceError::Start {
-            cause,
-            what: "no Gauss–Newton matrix (its local search did not run)",
-        })?;
         let d = cal.priors.len();
-        let h = (&h + &h.transpose()) * (0.5 * scale)
-            + DMatrix::from_diagonal_element(d, d, PRIOR_PRECISION);
+        if h.shape() != (d, d) {
+            return Err(ClassEvidenceError::Start {
+                cause,
+                what: "a curvature of another dimension",
+            });
+        }
+        let h = (h + h.transpose()) * 0.5 + DMatrix::from_diagonal_element(d, d, PRIOR_PRECISION);
         let chol = h.cholesky().ok_or(ClassEvidenceError::Start {
             cause,
             what: "a Gauss–Newton matrix that is not positive definite",

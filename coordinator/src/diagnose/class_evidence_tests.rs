@@ -10,7 +10,7 @@ use super::super::farm_executor_tests::tiny_bundle;
 use super::super::fit::{effective_sizes, Evaluation};
 use super::super::likelihood::band_sizes;
 use super::super::pipeline::split_runs;
-use super::super::resume::search_from;
+use super::super::resume::peak_search;
 use super::*;
 use nalgebra::{DMatrix, DVector};
 
@@ -113,13 +113,14 @@ fn evidence_of_a_small_fe_campaign_matches_quadrature_over_the_fe_model() {
 #[test]
 fn band_evidence_of_a_small_fe_campaign_matches_quadrature_over_the_fe_model() {
     // The calibration minimised the time likelihood: the band evidence
-    // starts from its curvature, rescaled.
+    // starts from the band likelihood's own search.
     matches_quadrature(LikelihoodKind::Band);
 }
 
 /// The evidence under likelihood `kind` against quadrature of the same
-/// likelihood, from the calibration and from its best point alone with a
-/// curvature 30 times off either way.
+/// likelihood, from the calibration and its search of that likelihood
+/// ([`peak_search`]), and from its best point alone with a curvature 30
+/// times off either way.
 fn matches_quadrature(kind: LikelihoodKind) {
     let dir = tempfile::tempdir().unwrap();
     let b = tiny_bundle(dir.path());
@@ -141,10 +142,15 @@ fn matches_quadrature(kind: LikelihoodKind) {
     let t = std::time::Instant::now();
     let budget = Budget { threads: 2, ..Budget::default() };
     let class = (Cause::NONE, &priors[..]);
-    let cal =
+    let mut cal =
         calibrate(&b, class, &cal_runs, &n_eff, &budget, None, &mut exec, &mut |_, _| {}).unwrap();
     let policy = EvidencePolicy { likelihood: kind, ..EvidencePolicy::default() };
-    let got = class_evidence(&cal, (&b, &cal_runs), w, &mut exec, &policy).unwrap();
+    let from = cal.points[cal.best_by(&lik).unwrap()].u.clone();
+    let local = policy.resume_runs(2);
+    let data = (&b, &cal_runs[..]);
+    let h =
+        peak_search(&mut cal, from, data, (kind, w), &budget, local, &mut exec).unwrap().unwrap();
+    let got = class_evidence(&cal, &h, (&b, &cal_runs), w, &mut exec, &policy).unwrap();
     let smc_s = t.elapsed().as_secs_f64();
     eprintln!(
         "{kind:?}: quadrature ln Z {ln_z_quad:.3} (grid difference {quad_err:.3}, {quad_runs} FE points, {quad_s:.1} s); \
@@ -180,8 +186,8 @@ fn matches_quadrature(kind: LikelihoodKind) {
     for factor in [1.0 / 30.0, 30.0] {
         let mut off = cal.clone();
         off.points = vec![cal.points[best].clone()];
-        off.gauss_newton = off.gauss_newton.map(|h| h * factor);
-        let got = class_evidence(&off, (&b, &cal_runs), w, &mut exec, &policy).unwrap();
+        let got =
+            class_evidence(&off, &(&h * factor), (&b, &cal_runs), w, &mut exec, &policy).unwrap();
         eprintln!(
             "{kind:?}, curvature x {factor:.3}: {:.3} ± {:.3} (k̂ {:.2}, converged {}, Laplace {:.3}; {} FE points, {} rounds)",
             got.ln_evidence,
@@ -199,8 +205,8 @@ fn matches_quadrature(kind: LikelihoodKind) {
         let diff = got.ln_evidence - ln_z_quad;
         assert!(diff.abs() <= 1.0, "curvature x {factor}: {diff:+.3} nat");
     }
-    from_short_of_the_mode(&cal, (&b, &cal_runs), w, &mut exec, (&policy, &n_eff), ln_z_quad);
-    annealed_alone(&cal, (&b, &cal_runs), w, &mut exec, &policy, ln_z_quad);
+    from_short_of_the_mode((&cal, &h), (&b, &cal_runs), w, &mut exec, &policy, ln_z_quad);
+    annealed_alone((&cal, &h), (&b, &cal_runs), w, &mut exec, &policy, ln_z_quad);
 }
 
 /// The annealing alone: one round from the best point with a curvature 30
@@ -208,7 +214,7 @@ fn matches_quadrature(kind: LikelihoodKind) {
 /// times too wide), then the annealing from its emulated posterior; it must reach the FE posterior and the quadrature's
 /// `ln_z_quad` within 1 nat.
 fn annealed_alone(
-    cal: &Calibration,
+    (cal, h): (&Calibration, &DMatrix<f64>),
     data: (&Bundle, &[usize]),
     w: ChannelWeights<'_>,
     exec: &mut ThreadExecutor,
@@ -218,9 +224,8 @@ fn annealed_alone(
     let lik = policy.likelihood.with(w);
     let mut off = cal.clone();
     off.points = vec![cal.points[cal.best_by(&lik).unwrap()].clone()];
-    off.gauss_newton = off.gauss_newton.map(|h| h / 30.0);
     let never = EvidencePolicy { rounds: 1, ..policy.clone() };
-    let got = class_evidence(&off, data, w, exec, &never).unwrap();
+    let got = class_evidence(&off, &(h / 30.0), data, w, exec, &never).unwrap();
     let a = got.annealed.clone().expect("the rounds did not settle: the annealing runs");
     let (ln_z, sd) = a.estimate.unwrap_or((f64::NAN, f64::NAN));
     eprintln!(
@@ -241,16 +246,16 @@ fn annealed_alone(
 }
 
 /// A calibration that stopped short of the mode (its one point the
-/// calibration's nearest to [`SHORT_NATS`] below its best, with the
-/// curvature at the best): the rounds must stop for the higher ground
-/// their checks find, the search resume there, and the evidence started
-/// again reach the quadrature's `ln_z_quad`.
+/// calibration's nearest to [`SHORT_NATS`] below its best) and a first
+/// search that does not move (the curvature at the best): the rounds must
+/// stop for the higher ground their checks find, the search resume there,
+/// and the evidence started again reach the quadrature's `ln_z_quad`.
 fn from_short_of_the_mode(
-    cal: &Calibration,
+    (cal, h): (&Calibration, &DMatrix<f64>),
     data: (&Bundle, &[usize]),
     w: ChannelWeights<'_>,
     exec: &mut ThreadExecutor,
-    (policy, n_eff): (&EvidencePolicy, &[f64]),
+    policy: &EvidencePolicy,
     ln_z_quad: f64,
 ) {
     let lik = policy.likelihood.with(w);
@@ -261,11 +266,15 @@ fn from_short_of_the_mode(
     let mut off = cal.clone();
     off.points = vec![cal.points[short].clone()];
     let budget = Budget { threads: 2, ..Budget::default() };
-    let mut resume = |c: &mut Calibration, u: Vec<f64>, e: &mut dyn FeExecutor| {
+    let mut first = true;
+    let mut search = |c: &mut Calibration, u: Vec<f64>, e: &mut dyn FeExecutor| {
+        if std::mem::take(&mut first) {
+            return Ok(Some(h.clone()));
+        }
         let local = policy.resume_runs(c.priors.len());
-        search_from(c, u, data, n_eff, &budget, local, e, &mut |_| {}).map(|_| ())
+        peak_search(c, u, data, (policy.likelihood, w), &budget, local, e)
     };
-    let got = settled_evidence(&mut off, data, w, exec, policy, &mut resume).unwrap();
+    let got = settled_evidence(&mut off, data, w, exec, policy, &mut search).unwrap();
     eprintln!(
         "{:?}, from {:.1} nat below the best: {:.3} ± {:.3} (k̂ {:.2}, converged {}, {} restarts; {} + {} FE points, {} rounds in the last start)",
         policy.likelihood,

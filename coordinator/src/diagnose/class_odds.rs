@@ -13,7 +13,7 @@
 use super::calibrate::Calibration;
 use super::cause::Cause;
 use super::class_evidence::{
-    settled_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy, Resume,
+    settled_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy, PeakSearch,
 };
 use super::effect::EFFECTS;
 use super::executor::{ExecutorError, FeExecutor};
@@ -44,21 +44,22 @@ pub fn ln_prior(cause: Cause, effect_prior: f64) -> f64 {
 /// The evidence of each calibration in `cals` on `runs` of `bundle`
 /// (channel weights `w`), each with its posterior probability among
 /// those that have one; a class whose evidence failed carries why. Each
-/// calibration's search may resume from higher ground its evidence found
-/// ([`settled_evidence`] with `resume`). `progress` hears (done, planned).
+/// evidence starts from `search` (the local search of the likelihood it
+/// integrates) and may resume it from higher ground it found
+/// ([`settled_evidence`]). `progress` hears (done, planned).
 pub fn class_odds(
     cals: &mut [Calibration],
     (bundle, runs): (&Bundle, &[usize]),
     w: ChannelWeights<'_>,
     exec: &mut dyn FeExecutor,
-    (policy, resume): (&EvidencePolicy, &mut Resume<'_>),
+    (policy, search): (&EvidencePolicy, &mut PeakSearch<'_>),
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Result<ClassOdds, String>>, ExecutorError> {
     let mut out = Vec::with_capacity(cals.len());
     let planned = cals.len();
     for (k, cal) in cals.iter_mut().enumerate() {
         progress(k, planned);
-        out.push(match settled_evidence(cal, (bundle, runs), w, exec, policy, resume) {
+        out.push(match settled_evidence(cal, (bundle, runs), w, exec, policy, search) {
             Ok(evidence) => {
                 Ok(ClassOdds { evidence, probability: f64::NAN, effect_prior: policy.effect_prior })
             }

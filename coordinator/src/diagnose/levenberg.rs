@@ -2,11 +2,14 @@
 //! Jacobians of the channel residuals, the Gauss–Newton system weighted per
 //! channel, damped steps clamped to the unit cube.
 
+use super::band_likelihood::model_band_pass;
 use super::calibrate::{
     evaluate_full, evaluate_points, Calibration, Point, Residuals, Scale, Search,
 };
 use super::ensemble::difference_step;
 use super::executor::ExecutorError;
+use super::fit::Evaluation;
+use super::likelihood::Likelihood;
 use nalgebra::{DMatrix, DVector};
 
 impl Search<'_, '_> {
@@ -59,9 +62,14 @@ impl Search<'_, '_> {
         let evals = evaluate_full(self.ev, &us, self.exec)?;
         state.spent += evals.len();
         let f = scale.objective(&evals[0].0, self.n_eff);
-        let Some(r0) = evals[0].1.as_ref().map(|r| scale.residuals(r)) else { return Ok(None) };
-        let stepped: Vec<Option<Residuals>> =
-            evals[1..].iter().map(|(_, ri)| ri.as_ref().map(|r| scale.residuals(r))).collect();
+        let steps = channel_steps(self.ev, &evals[0].0);
+        let Some(r0) = evals[0].1.as_ref().map(|r| scale.residuals(r, &steps)) else {
+            return Ok(None);
+        };
+        let stepped: Vec<Option<Residuals>> = evals[1..]
+            .iter()
+            .map(|(_, ri)| ri.as_ref().map(|r| scale.residuals(r, &steps)))
+            .collect();
         let h: Vec<f64> = (0..active.len()).map(|a| us[a + 1][active[a]] - u[active[a]]).collect();
         let Some(cols) = jacobian_columns(&r0, stepped, &h) else { return Ok(None) };
         let (jt_j, jt_r) = normal_equations(&r0, &cols, scale, self.n_eff);
@@ -121,27 +129,46 @@ impl Scale {
         match self {
             Scale::Fine => p.neg_log_lik(n_eff),
             Scale::Coarse => p.coarse,
+            Scale::Band => p.neg_log_lik_by(&Likelihood::Band(n_eff)),
         }
     }
 
-    /// The residuals fitted at this scale, of (time-history, windowed).
-    fn residuals(self, r: &(Residuals, Residuals)) -> Residuals {
+    /// The residuals fitted at this scale, of (time-history, windowed);
+    /// `steps` holds each channel's time step (s), which the band's filter
+    /// needs ([`model_band_pass`]; the modal frequencies' whitened
+    /// residuals past the channels pass unfiltered).
+    fn residuals(self, r: &(Residuals, Residuals), steps: &[f64]) -> Residuals {
         match self {
             Scale::Fine => r.0.clone(),
             Scale::Coarse => r.1.clone(),
+            Scale::Band => (r.0.iter().enumerate())
+                .map(|(c, rc)| {
+                    steps.get(c).map_or_else(|| rc.clone(), |dt| model_band_pass(rc, *dt))
+                })
+                .collect(),
         }
     }
 
     /// The weight n_c of channel `c` with residuals `r`: its `n_eff` on the
-    /// time histories, its windows on the misfits. The time histories'
+    /// time histories (its in-band degrees of freedom on the band's), its
+    /// windows on the misfits. The time histories'
     /// residuals past the channels are the modal frequencies' whitened ones
     /// (Gaussian: weight 1 each, so n_c = their SSR).
     fn channel_weight(self, c: usize, r: &[f64], n_eff: &[f64]) -> f64 {
         match self {
-            Scale::Fine => n_eff.get(c).copied().unwrap_or_else(|| r.iter().map(|x| x * x).sum()),
+            Scale::Fine | Scale::Band => {
+                n_eff.get(c).copied().unwrap_or_else(|| r.iter().map(|x| x * x).sum())
+            }
             Scale::Coarse => r.len() as f64,
         }
     }
+}
+
+/// The time step (s) of each channel of `p`'s fits, in their order (NaN
+/// for a run the bundle does not hold; none when `p` failed).
+fn channel_steps(ev: &Evaluation<'_>, p: &Point) -> Vec<f64> {
+    let step = |run: &str| ev.bundle.runs.iter().find(|r| r.id == run).map_or(f64::NAN, |r| r.dt_s);
+    p.fit.as_ref().map_or_else(|_| Vec::new(), |ch| ch.iter().map(|c| step(&c.run)).collect())
 }
 
 /// Settings of one Levenberg–Marquardt search

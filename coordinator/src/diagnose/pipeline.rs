@@ -30,13 +30,17 @@ use super::modal_fit::ModalFit;
 use super::posterior::VariationalPosterior;
 use super::posterior_check::{checked_posterior, rounds as check_rounds};
 use super::refine::{planned_runs, refine, refine_walks, twin_walks};
-use super::resume::search_from;
+use super::resume::peak_search;
 use super::stage_load::{CurrentStage, LoadMeter, StageLoad};
 use super::unexplained::{channel_misses, unexplained, Miss, Unexplained, Where};
 use crate::bundle::{Bundle, Direction, RunRole};
 use stats::gp::Gp;
 use std::cell::RefCell;
 use std::rc::Rc;
+
+/// What a class evidence's local search gives: the Gauss–Newton matrix
+/// of −ln L where it ended (None: it could not linearise).
+type PeakResult = Result<Option<nalgebra::DMatrix<f64>>, ExecutorError>;
 
 /// Choices of a diagnosis.
 #[derive(Debug, Clone)]
@@ -816,12 +820,14 @@ impl After<'_> {
 
     /// Every calibrated class's evidence and probability by `policy`
     /// ([`class_odds`]); under the evidence's verdict, then the classes of
-    /// several effects ([`After::search_combined`]). Under the evidence's
-    /// verdict a calibration whose evidence found higher ground resumes its
-    /// search there ([`super::class_evidence::settled_evidence`]) and is
+    /// several effects ([`After::search_combined`]). Each evidence starts
+    /// with a local search of the likelihood it integrates
+    /// ([`super::class_evidence::settled_evidence`]). Under the evidence's
+    /// verdict the search's points join the calibration, which may resume
+    /// it from higher ground, and a calibration whose best point moved is
     /// assessed again; under the MDL's, whose choice was made on the
-    /// calibrations as they were, the evidence is computed on them as they
-    /// are (no restart).
+    /// calibrations as they were, the evidence searches copies of them (no
+    /// restart) and the calibrations stay as they were.
     fn weigh_classes(
         &self,
         policy: &EvidencePolicy,
@@ -839,11 +845,19 @@ impl After<'_> {
         let restarts = if evidence_rule { policy.restarts } else { 0 };
         let policy = &EvidencePolicy { restarts, ..policy.clone() };
         let spent: Vec<usize> = v.cals.iter().map(Calibration::fe_points).collect();
-        let mut resume = self.resume(policy);
-        let odds = class_odds(&mut v.cals, data, w, exec, (policy, &mut resume), &mut report)?;
+        let best_u = |cal: &Calibration| cal.best(self.n_eff.0).map(|k| cal.points[k].u.clone());
+        let before: Vec<Option<Vec<f64>>> = v.cals.iter().map(best_u).collect();
+        let mut search = self.peak_search(policy, w);
+        let mut copies = (!evidence_rule).then(|| v.cals.clone());
+        let cals = copies.as_mut().unwrap_or(&mut v.cals);
+        let odds = class_odds(cals, data, w, exec, (policy, &mut search), &mut report)?;
+        let searched: Vec<usize> =
+            cals.iter().zip(&spent).map(|(c, s)| c.fe_points() - s).collect();
         for (k, o) in odds.into_iter().enumerate() {
-            if v.cals[k].fe_points() != spent[k] {
+            if evidence_rule && best_u(&v.cals[k]) != before[k] {
                 self.reassess(v, k, &mut results[k], spent[k], exec)?;
+            } else {
+                results[k].fe_points += searched[k];
             }
             results[k].fe_points += o.as_ref().map_or(0, |o| o.evidence.fe_points);
             results[k].odds = Some(o);
@@ -854,21 +868,23 @@ impl After<'_> {
         Ok(())
     }
 
-    /// How a calibration resumes its search from higher ground its
-    /// evidence found: a Levenberg–Marquardt search over every parameter
-    /// ([`search_from`], [`EvidencePolicy::resume_runs`] FE runs) on the
-    /// calibration runs under the calibration's weights.
-    fn resume<'p>(
+    /// The local search a class's evidence starts from, and resumes from
+    /// higher ground: Levenberg–Marquardt over every parameter of the
+    /// likelihood the evidence integrates ([`peak_search`],
+    /// [`EvidencePolicy::resume_runs`] FE runs) on the calibration runs
+    /// under the diagnosis's weights `w`.
+    fn peak_search<'p>(
         &'p self,
         policy: &'p EvidencePolicy,
-    ) -> impl FnMut(&mut Calibration, Vec<f64>, &mut dyn FeExecutor) -> Result<(), ExecutorError> + 'p
-    {
-        let (b, runs, n_eff0, budget) = (self.b, self.runs.0, self.n_eff.0, &self.opts.budget);
+        w: ChannelWeights<'p>,
+    ) -> impl FnMut(&mut Calibration, Vec<f64>, &mut dyn FeExecutor) -> PeakResult + 'p {
+        let (b, runs, budget) = (self.b, self.runs.0, &self.opts.budget);
         move |cal: &mut Calibration, u: Vec<f64>, exec: &mut dyn FeExecutor| {
             let local = policy.resume_runs(cal.priors.len());
-            let r = search_from(cal, u, (b, runs), n_eff0, budget, local, exec, &mut |_| {})?;
-            tracing::debug!(cause = cal.cause.as_str(), r.before, r.after, "resumed search");
-            Ok(())
+            let kind = (policy.likelihood, w);
+            let h = peak_search(cal, u, (b, runs), kind, budget, local, exec)?;
+            tracing::debug!(cause = cal.cause.as_str(), found = h.is_some(), "peak search");
+            Ok(h)
         }
     }
 
@@ -914,7 +930,7 @@ impl After<'_> {
         };
         let prior = policy.effect_prior;
         let mut tried: Tried = results.iter().map(|r| (r.cause, ln_posterior(r, prior))).collect();
-        let mut resume = self.resume(policy);
+        let mut search = self.peak_search(policy, w);
         let mut try_class = |c: Cause| -> Result<Option<f64>, DiagnoseError> {
             let data = (b, cal_runs);
             let mut cal = v.calibrate_class(c, data, n_eff0, &self.opts.budget, exec, progress)?;
@@ -924,7 +940,7 @@ impl After<'_> {
                 (b, cal_runs),
                 w,
                 exec,
-                (policy, &mut resume),
+                (policy, &mut search),
                 &mut |d, n| progress(&stage, d, n),
             )?;
             // Assessed after its evidence: the search may have resumed.
