@@ -32,8 +32,9 @@ pub struct Budget {
     pub per_round: usize,
     /// FE runs of the final local pattern search over every parameter.
     pub local: usize,
-    /// FE simulations run at once (threads, or farm workers); design
-    /// points go to the executor in batches of twice this.
+    /// FE simulations run at once (threads, or farm workers): how wide the
+    /// local searches' batches are ([`super::levenberg`]); designs go to
+    /// the executor whole.
     pub threads: usize,
     /// Seed of the design.
     pub seed: u64,
@@ -236,7 +237,7 @@ pub enum Scale {
 }
 
 /// One evaluation with its time-history and windowed residuals.
-type Full = (Point, Option<(Residuals, Residuals)>);
+pub(super) type Full = (Point, Option<(Residuals, Residuals)>);
 
 /// Runs the FE model at unit-cube points through `exec`.
 pub fn evaluate_points(
@@ -663,7 +664,7 @@ impl Search<'_, '_> {
     }
 
     /// Runs the course's design: a maximin Latin hypercube over the
-    /// explored dimensions, in batches of twice the FE threads.
+    /// explored dimensions, in one batch.
     fn run_design(
         &mut self,
         cal: &mut Calibration,
@@ -674,9 +675,7 @@ impl Search<'_, '_> {
         let design =
             draw(DesignMethod::MaximinLhs, course.design, dims.explored.len(), budget.seed);
         let us: Vec<Vec<f64>> = (0..design.n()).map(|i| dims.embed(design.row(i))).collect();
-        for chunk in us.chunks(budget.threads.max(1) * 2) {
-            self.evaluate_into(cal, chunk, progress)?;
-        }
+        self.evaluate_into(cal, &us, progress)?;
         Ok(())
     }
 

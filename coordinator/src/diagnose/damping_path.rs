@@ -106,9 +106,7 @@ impl Search<'_, '_> {
         let us: Vec<Vec<f64>> =
             (0..design.n()).map(|i| put(design.row(i), path.held[damping])).collect();
         let first = cal.points.len();
-        for chunk in us.chunks(budget.threads.max(1) * 2) {
-            self.evaluate_into(cal, chunk, progress)?;
-        }
+        self.evaluate_into(cal, &us, progress)?;
         let best = |cal: &Calibration| {
             let f = cal.objective(n_eff);
             (first..cal.points.len())

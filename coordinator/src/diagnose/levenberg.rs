@@ -1,11 +1,19 @@
 //! Levenberg–Marquardt on −log L of a calibration: forward-difference
 //! Jacobians of the channel residuals, the Gauss–Newton system weighted per
 //! channel, damped steps clamped to the unit cube.
+//!
+//! The search is sequential: a Jacobian at the centre, then damped trials
+//! judged in turn. To hand an executor batches as wide as it runs at once
+//! ([`Budget::threads`](super::calibrate::Budget::threads)), each batch of
+//! trials carries the Jacobian's stepped points of the first trials ahead
+//! of their verdict ([`stencil_trials`]): when one is taken, the next
+//! Jacobian is already run. What the search keeps and where it goes are
+//! those of trying one after the other: points run ahead and not taken are
+//! dropped unseen (a store keeps them), and the FE runs it counts against
+//! its budget are the ones it uses.
 
 use super::band_likelihood::model_band_pass;
-use super::calibrate::{
-    evaluate_full, evaluate_points, Calibration, Point, Residuals, Scale, Search,
-};
+use super::calibrate::{evaluate_full, Calibration, Full, Point, Residuals, Scale, Search};
 use super::ensemble::difference_step;
 use super::executor::ExecutorError;
 use super::fit::Evaluation;
@@ -34,8 +42,9 @@ impl Search<'_, '_> {
         let ext = self.own.len() < cal.priors.len();
         let steps: Vec<f64> =
             active.iter().map(|i| difference_step(ext && self.own.contains(i))).collect();
-        let set = LmSettings { scale, active, steps, local };
-        let mut state = LmState { u: start, lambda: 1e-3, spent: 0, gn: None };
+        let width = self.budget.threads.max(1);
+        let set = LmSettings { scale, active, steps, local, width };
+        let mut state = LmState { u: start, lambda: 1e-3, spent: 0, gn: None, ahead: None };
         while k > 0 && state.spent + k < local {
             let Some(centre) = self.linearise(cal, &set, &mut state)? else { break };
             state.gn = Some(embed_matrix(&centre.jt_j, active, cal.priors.len()));
@@ -57,9 +66,13 @@ impl Search<'_, '_> {
         set: &LmSettings<'_>,
         state: &mut LmState,
     ) -> Result<Option<Centre>, ExecutorError> {
-        let (u, active, scale) = (&state.u, set.active, set.scale);
-        let us = difference_points(u, active, &set.steps);
-        let evals = evaluate_full(self.ev, &us, self.exec)?;
+        let (active, scale) = (set.active, set.scale);
+        let us = difference_points(&state.u, active, &set.steps);
+        let evals = match state.ahead.take() {
+            Some(ahead) if ahead.0 == state.u => ahead.1,
+            _ => evaluate_full(self.ev, &us, self.exec)?,
+        };
+        let u = &state.u;
         state.spent += evals.len();
         let f = scale.objective(&evals[0].0, self.n_eff);
         let steps = channel_steps(self.ev, &evals[0].0);
@@ -79,8 +92,9 @@ impl Search<'_, '_> {
 
     /// Up to four damped steps from `centre` ([`lm_trial`]), λ growing
     /// tenfold after each that does not lower the objective and shrinking
-    /// to 0.3 λ (at least 1e-6) when one does; two run at once while the
-    /// budget allows. Returns how the round ended.
+    /// to 0.3 λ (at least 1e-6) when one does; several run at once, with
+    /// the Jacobian's points of the first ahead ([`stencil_trials`]).
+    /// Returns how the round ended.
     fn damped_steps(
         &mut self,
         cal: &mut Calibration,
@@ -93,24 +107,43 @@ impl Search<'_, '_> {
         let (jt_j, jt_r) = (&centre.jt_j, &centre.jt_r);
         let mut attempt = 0;
         while attempt < 4 && state.spent < limit {
-            let Some(first) = lm_trial(&state.u, active, jt_j, jt_r, state.lambda) else { break };
-            // The next attempt (10 λ) runs beside this one, so that a
-            // second worker is not idle while the first is judged; it
-            // is dropped unseen when the first is taken, so the points
-            // taken are those of trying one after the other.
-            let second = (attempt + 1 < 4 && state.spent + 2 <= limit)
-                .then(|| lm_trial(&state.u, active, jt_j, jt_r, state.lambda * 10.0))
-                .flatten();
-            let trials: Vec<Vec<f64>> = std::iter::once(first).chain(second).collect();
-            let points = evaluate_points(self.ev, &trials, self.exec)?;
-            for (trial, p) in trials.into_iter().zip(points) {
+            // The later attempts (10 λ, 100 λ, …) run beside the first, so
+            // that workers are not idle while it is judged.
+            let mut trials = Vec::new();
+            while trials.len() < set.trials(attempt, state.spent, limit) {
+                let lambda = state.lambda * 10f64.powi(trials.len() as i32);
+                match lm_trial(&state.u, active, jt_j, jt_r, lambda) {
+                    Some(t) => trials.push(t),
+                    None => break,
+                }
+            }
+            if trials.is_empty() {
+                break;
+            }
+            let ahead = set.stencils(trials.len(), state.spent);
+            let batch = stencil_trials(&trials, ahead, active, &set.steps);
+            let mut evals = evaluate_full(self.ev, &batch, self.exec)?.into_iter();
+            let mut judged = Vec::new();
+            for (j, trial) in trials.into_iter().enumerate() {
+                let Some(eval) = evals.next() else { break };
+                let steps: Vec<Full> = match j < ahead {
+                    true => evals.by_ref().take(active.len()).collect(),
+                    false => Vec::new(),
+                };
+                judged.push((trial, eval, steps));
+            }
+            for (trial, (p, r), steps) in judged {
                 state.spent += 1;
                 attempt += 1;
                 let ft = set.scale.objective(&p, self.n_eff);
-                cal.points.push(p);
+                cal.points.push(p.clone());
                 progress(cal.points.len());
                 if ft < centre.f {
                     let gain = centre.f - ft;
+                    if !steps.is_empty() {
+                        let centre_eval = std::iter::once((p, r));
+                        state.ahead = Some((trial.clone(), centre_eval.chain(steps).collect()));
+                    }
                     state.u = trial;
                     state.lambda = (state.lambda * 0.3).max(1e-6);
                     return Ok(if gain < 0.01 { LmStep::Converged } else { LmStep::Moved });
@@ -120,6 +153,25 @@ impl Search<'_, '_> {
         }
         Ok(LmStep::Stalled)
     }
+}
+
+/// The batch of `trials` (in order), each of the first `ahead` followed by
+/// its Jacobian's stepped points ([`difference_points`] without the
+/// centre, which is the trial itself).
+fn stencil_trials(
+    trials: &[Vec<f64>],
+    ahead: usize,
+    active: &[usize],
+    steps: &[f64],
+) -> Vec<Vec<f64>> {
+    let mut batch = Vec::new();
+    for (j, t) in trials.iter().enumerate() {
+        batch.push(t.clone());
+        if j < ahead {
+            batch.extend(difference_points(t, active, steps).into_iter().skip(1));
+        }
+    }
+    batch
 }
 
 impl Scale {
@@ -183,6 +235,32 @@ struct LmSettings<'s> {
     steps: Vec<f64>,
     /// FE runs it may spend.
     local: usize,
+    /// FE runs the executor runs at once ([`Budget::threads`](super::calibrate::Budget::threads)).
+    width: usize,
+}
+
+impl LmSettings<'_> {
+    /// Trials of one batch at attempt `attempt` with `spent` of `limit`
+    /// FE runs spent: as many as carry their Jacobian's points ahead
+    /// ([`stencils`](Self::stencils)), at least two (a second worker
+    /// judges the next damping while the first is judged), within the four
+    /// attempts and the budget.
+    fn trials(&self, attempt: usize, spent: usize, limit: usize) -> usize {
+        let wide = self.width.div_ceil(self.active.len() + 1).max(2);
+        wide.min(4 - attempt.min(4)).min(limit.saturating_sub(spent))
+    }
+
+    /// How many of `trials` trials carry their Jacobian's points: enough
+    /// to fill the executor's width with each trial and its d stepped
+    /// points (at least one), and none when a taken trial would end the
+    /// search before its next Jacobian (the budget spent).
+    fn stencils(&self, trials: usize, spent: usize) -> usize {
+        let k = self.active.len();
+        let fill = self.width.div_ceil(k + 1).max(1).min(trials);
+        // A trial taken as the j-th (from 0) leaves spent + j + 1; the
+        // next Jacobian runs only while that plus k stays below `local`.
+        (0..fill).take_while(|j| spent + j + 1 + k < self.local).count()
+    }
 }
 
 /// Where a Levenberg–Marquardt search stands.
@@ -196,6 +274,9 @@ struct LmState {
     /// The Gauss–Newton matrix at the last centre (zero outside the active
     /// dimensions).
     gn: Option<DMatrix<f64>>,
+    /// The taken trial and its Jacobian's evaluations (centre first), run
+    /// ahead of its verdict ([`stencil_trials`]).
+    ahead: Option<(Vec<f64>, Vec<Full>)>,
 }
 
 /// −log L and its Gauss–Newton system at a Levenberg–Marquardt centre.
@@ -321,8 +402,93 @@ fn embed_matrix(m: &DMatrix<f64>, dims: &[usize], k: usize) -> DMatrix<f64> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::calibrate::Budget;
+    use super::super::cause::BASELINE_PRIORS;
+    use super::super::cause::{Cause, Demand};
+    use super::super::executor::{FeExecutor, Sims, ThreadExecutor};
+    use super::super::farm_executor_tests::tiny_bundle;
+    use super::super::fit::effective_sizes;
+    use super::super::pipeline::split_runs;
     use super::*;
     use proptest::prelude::*;
+
+    /// Threads that record the size of every batch they are handed.
+    struct Recording(ThreadExecutor, Vec<usize>);
+
+    impl FeExecutor for Recording {
+        fn simulate(
+            &mut self,
+            ev: &Evaluation<'_>,
+            thetas: &[Vec<f64>],
+        ) -> Result<Vec<Sims>, ExecutorError> {
+            self.1.push(thetas.len());
+            self.0.simulate(ev, thetas)
+        }
+
+        fn demand(
+            &mut self,
+            ev: &Evaluation<'_>,
+            theta: &[f64],
+        ) -> Result<Result<Demand, String>, ExecutorError> {
+            self.0.demand(ev, theta)
+        }
+
+        fn simulated(&self) -> usize {
+            self.0.simulated()
+        }
+    }
+
+    #[test]
+    fn what_a_search_keeps_does_not_depend_on_how_wide_its_batches_are() {
+        let dir = tempfile::tempdir().unwrap();
+        let b = tiny_bundle(dir.path());
+        let (runs, _) = split_runs(&b);
+        let priors = BASELINE_PRIORS.to_vec();
+        let ev = Evaluation::baseline(&b, &priors, &runs);
+        let mut exec = ThreadExecutor::new(2);
+        let centre = evaluate_full(&ev, &[vec![0.5, 0.5]], &mut exec).unwrap();
+        let n_eff = effective_sizes(centre[0].0.fit.as_ref().unwrap());
+        let search = |width: usize| {
+            let budget = Budget { threads: width, ..Budget::default() };
+            let mut rec = Recording(ThreadExecutor::new(2), Vec::new());
+            let mut cal = Calibration {
+                cause: Cause::NONE,
+                priors: priors.clone(),
+                free: vec![0, 1],
+                points: Vec::new(),
+                demand: None,
+                gauss_newton: None,
+                committed_share: 0.0,
+            };
+            let own: Vec<usize> = vec![0, 1];
+            let mut s =
+                Search { ev: &ev, n_eff: &n_eff, budget: &budget, exec: &mut rec, own: &own };
+            let end = s
+                .levenberg_marquardt(
+                    &mut cal,
+                    Scale::Fine,
+                    vec![0.2, 0.8],
+                    &[0, 1],
+                    24,
+                    &mut |_| {},
+                )
+                .unwrap();
+            let kept: Vec<(Vec<f64>, f64)> =
+                cal.points.iter().map(|p| (p.u.clone(), p.neg_log_lik(&n_eff))).collect();
+            (end, kept, rec.1)
+        };
+        let (narrow, wide) = (search(1), search(9));
+        assert_eq!(narrow.0, wide.0, "where it ended and its Gauss–Newton matrix");
+        assert_eq!(narrow.1, wide.1, "the points it kept");
+        assert!(narrow.1.len() > 6, "a search of one step: {:?}", narrow.1.len());
+        // 9 wide: after the first Jacobian, three trials each with its
+        // Jacobian's two stepped points (fewer where the budget ends); 1
+        // wide: two trials, the first with them.
+        assert_eq!(wide.2[0], 3, "{:?}", wide.2);
+        assert!(wide.2[1..wide.2.len() - 2].iter().all(|n| *n == 9), "{:?}", wide.2);
+        assert!(narrow.2.iter().all(|n| *n <= 4), "{:?}", narrow.2);
+        assert!(wide.2.len() <= narrow.2.len(), "{:?} vs {:?}", wide.2, narrow.2);
+    }
 
     #[test]
     fn a_matrix_over_some_dimensions_embeds_with_zeros_elsewhere() {
