@@ -144,10 +144,11 @@ pub struct EvidencePolicy {
     /// "not worth more than a bare mention" (40 particles cannot give the
     /// rounds' 0.3).
     pub anneal_sd_nats: f64,
-    /// Levenberg–Marquardt steps of a resumed search, each (d + 2) FE runs (a
-    /// Jacobian and a trial): 3, a bound on a restart's cost (a choice, not
-    /// measured: the next round's checks show whether it reached the mode,
-    /// and another restart follows when it did not).
+    /// Levenberg–Marquardt steps of each search of the evidence's likelihood
+    /// (the first, and every restart), each (d + 2) FE runs (a Jacobian and
+    /// a trial): 3, a bound on a start's cost (a choice, not measured: the
+    /// next round's checks show whether it reached the mode, and another
+    /// restart follows when it did not).
     pub resume_steps: usize,
 }
 
@@ -177,7 +178,7 @@ impl EvidencePolicy {
         self.floor_nats.0 + self.floor_nats.1 * d as f64
     }
 
-    /// FE runs of a resumed search over `d` parameters.
+    /// FE runs of a search of the evidence's likelihood over `d` parameters.
     pub fn resume_runs(&self, d: usize) -> usize {
         self.resume_steps * (d + 2)
     }
