@@ -1,7 +1,12 @@
-//! `diagnosis.json`, format `ceiling-diagnosis/1` (spec page
-//! `measured-bundle.md`): the cause, every candidate with its MDL and
-//! validation error, and the gain on the validation runs; optionally the
-//! symptoms (an extra field, which the format allows).
+//! `diagnosis.json`, format `ceiling-diagnosis/2`: the fields of
+//! `ceiling-diagnosis/1` (spec page `measured-bundle.md`: the cause, every
+//! candidate with its MDL and validation error, and the gain on the
+//! validation runs), a `cause` that may join several effects' names with
+//! `+` and their list `causes`, and `classes`: every class tried with its
+//! evidence, posterior probability and validation error. A reader of `/1`
+//! reads `/2` (every field of `/1` is there, spelt the same) but for a
+//! `cause` of several effects, which only `--verdict evidence` names;
+//! optionally the symptoms (an extra field).
 
 use super::evidence::{Evidence, Reading};
 use super::linear_stage::report::LinearJson;
@@ -9,7 +14,53 @@ use super::pipeline::{Diagnosis, VerdictRule};
 use serde::Serialize;
 
 /// Format string of the verdict.
-pub const FORMAT: &str = "ceiling-diagnosis/1";
+pub const FORMAT: &str = "ceiling-diagnosis/2";
+
+/// One class tried, as `classes` lists it: the summary a reader compares
+/// classes by (the candidate's own entry has the rest).
+#[derive(Debug, Clone, Serialize)]
+pub struct ClassJson {
+    /// Its name: the effects joined by `+`, or `none`.
+    pub cause: String,
+    /// Its effects (empty for `none`).
+    pub causes: Vec<&'static str>,
+    /// Calibrated parameters.
+    pub k: usize,
+    /// ln p(data | class) (nat; null without `--evidence` or when it could
+    /// not be computed).
+    pub ln_evidence: Option<f64>,
+    /// Its standard error (nat).
+    pub ln_evidence_sd: Option<f64>,
+    /// Whether the evidence settled (null without one): only a settled
+    /// evidence takes a share of the probability.
+    pub settled: Option<bool>,
+    /// Posterior probability among the classes tried (null without an
+    /// evidence, or one that did not settle).
+    pub probability: Option<f64>,
+    /// Mean validation error beyond the noise of its prediction.
+    pub validation_error: f64,
+    /// Whether the verdict names it (with `unexplained`: the model found
+    /// wanting).
+    pub selected: bool,
+}
+
+impl ClassJson {
+    /// The summary of candidate `c` of class `cause`.
+    fn of(cause: super::cause::Cause, c: &CandidateJson) -> Self {
+        let e = c.evidence.as_ref();
+        ClassJson {
+            cause: c.cause.clone(),
+            causes: cause.effects().map(|e| e.name()).collect(),
+            k: c.k,
+            ln_evidence: e.and_then(|e| e.ln_evidence),
+            ln_evidence_sd: e.and_then(|e| e.ln_evidence_sd),
+            settled: e.and_then(|e| e.converged),
+            probability: e.and_then(|e| e.probability).filter(|p| p.is_finite()),
+            validation_error: c.validation_error,
+            selected: c.selected,
+        }
+    }
+}
 
 /// One candidate as written.
 #[derive(Debug, Clone, Serialize)]
@@ -277,7 +328,7 @@ fn posterior_json(
 /// The verdict as written.
 #[derive(Debug, Clone, Serialize)]
 pub struct VerdictJson {
-    /// `ceiling-diagnosis/1`.
+    /// `ceiling-diagnosis/2`.
     pub format: String,
     /// Bundle name.
     pub bundle: String,
@@ -299,6 +350,9 @@ pub struct VerdictJson {
     pub unexplained: Option<UnexplainedJson>,
     /// Every candidate, the baseline first.
     pub candidates: Vec<CandidateJson>,
+    /// Every class tried, in the candidates' order: its evidence, posterior
+    /// probability and validation error ([`ClassJson`]).
+    pub classes: Vec<ClassJson>,
     /// Baseline error on the validation runs.
     pub baseline_validation_error: f64,
     /// Chosen variant's error on the validation runs.
@@ -432,6 +486,14 @@ impl VerdictJson {
 
 /// The verdict of a diagnosis; `run_ids` names the bundle's runs.
 pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
+    let mut v = verdict_fields(d, run_ids);
+    v.classes =
+        (d.candidates.iter().zip(&v.candidates)).map(|(r, c)| ClassJson::of(r.cause, c)).collect();
+    v
+}
+
+/// Every field of the verdict but `classes` (empty).
+fn verdict_fields(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
     let ids = |v: &[usize]| v.iter().map(|k| run_ids[*k].clone()).collect();
     VerdictJson {
         format: FORMAT.into(),
@@ -485,6 +547,7 @@ pub fn verdict(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                 evidence: evidence_json(&c.odds),
             })
             .collect(),
+        classes: vec![],
         baseline_validation_error: d.baseline_validation_error,
         extended_validation_error: d.extended_validation_error,
         gain: d.gain,
@@ -556,6 +619,30 @@ mod tests {
             assert_eq!(v.causes, want);
             let joined = if want.is_empty() { "none".to_string() } else { want.join("+") };
             assert_eq!(v.cause, joined);
+        }
+    }
+
+    #[test]
+    fn classes_list_every_candidate_with_its_effects_and_validation_error() {
+        let (b, d) = pounding_diagnosis(true, false);
+        let ids: Vec<String> = b.runs.iter().map(|r| r.id.clone()).collect();
+        let v = serde_json::to_value(verdict(&d, &ids)).unwrap();
+        assert_eq!(v["format"], "ceiling-diagnosis/2");
+        let classes = v["classes"].as_array().unwrap();
+        assert_eq!(classes.len(), d.candidates.len());
+        for (c, r) in classes.iter().zip(&d.candidates) {
+            assert_eq!(c["cause"], r.cause.as_str());
+            assert_eq!(c["causes"].as_array().unwrap().len(), r.cause.size());
+            // NaN (not computed) is written as null.
+            let e = r.validation_error;
+            assert_eq!(c["validation_error"].as_f64(), e.is_finite().then_some(e));
+            assert_eq!(c["selected"], r.selected);
+            // No --evidence: no evidence, no probability.
+            assert!(c["ln_evidence"].is_null() && c["probability"].is_null(), "{c}");
+        }
+        // Every field a reader of ceiling-diagnosis/1 reads is there.
+        for key in ["bundle", "cause", "candidates", "baseline_validation_error", "gain"] {
+            assert!(v.get(key).is_some(), "{key}");
         }
     }
 }
