@@ -144,6 +144,10 @@ pub struct EvidencePolicy {
     /// "not worth more than a bare mention" (40 particles cannot give the
     /// rounds' 0.3).
     pub anneal_sd_nats: f64,
+    /// Tries of the curvature's scale check before the rounds
+    /// ([`Rounds::check_scale`]; 0: none): 4, each one batch of 2d + 2 FE
+    /// runs; a factor of 10⁴ off is then found in one or two tries.
+    pub scale_tries: usize,
     /// Levenberg–Marquardt steps of each search of the evidence's likelihood
     /// (the first, and every restart), each (d + 2) FE runs (a Jacobian and
     /// a trial): 3, a bound on a start's cost (a choice, not measured: the
@@ -168,6 +172,7 @@ impl Default for EvidencePolicy {
             anneal_runs: 640,
             anneal_steps: 2,
             anneal_sd_nats: 1.0,
+            scale_tries: 4,
         }
     }
 }
@@ -220,6 +225,9 @@ impl EvidencePolicy {
         }
         if !(self.anneal_sd_nats > 0.0 && self.anneal_sd_nats.is_finite()) {
             return bad("anneal_sd_nats", self.anneal_sd_nats.to_string(), "a positive number");
+        }
+        if self.scale_tries > 16 {
+            return bad("scale_tries", self.scale_tries.to_string(), "at most 16");
         }
         if self.resume_steps < 1 {
             return bad("resume_steps", self.resume_steps.to_string(), "at least 1");
@@ -285,8 +293,11 @@ pub struct ClassEvidence {
     /// Whether the stop rule was met (else the rounds ran out).
     pub converged: bool,
     /// The Laplace approximation ln L(u*) + d/2 ln 2π − ½ ln det H, for
-    /// comparison (nat).
+    /// comparison (nat; H the search's, before the scale check).
     pub laplace_ln_evidence: f64,
+    /// The factor the scale check put on the search's curvature (1: none
+    /// needed or none run; [`Rounds::check_scale`]).
+    pub curvature_scale: f64,
     /// Every round, in order.
     pub rounds: Vec<EvidenceRound>,
     /// FE evaluations this computation ran (the calibration's not counted).
@@ -324,6 +335,16 @@ pub struct Annealed {
     pub fe_points: usize,
     /// The temperature reached (1: the FE posterior).
     pub beta: f64,
+}
+
+/// What the curvature's scale check found ([`Rounds::check_scale`]).
+struct ScaleCheck {
+    /// The factor put on the curvature in all.
+    factor: f64,
+    /// FE runs of its draws.
+    fe_points: usize,
+    /// A draw that rose above the best value by more than [`rise_limit`].
+    higher_ground: Option<HigherGround>,
 }
 
 /// Why a class's evidence could not be computed.
@@ -455,7 +476,26 @@ fn evidence_rounds(
         ledger: cal.points.iter().map(|p| (p.u.clone(), -p.neg_log_lik_by(&lik), false)).collect(),
         last: None,
     };
-    let (mut rounds, mut fe_points) = (Vec::new(), 0);
+    let scale = driver.check_scale(exec)?;
+    let (curvature_scale, mut fe_points) = (scale.factor, scale.fe_points);
+    if let (true, Some(high)) = (stop_higher, scale.higher_ground) {
+        // The search resumes from it before any round (see settled_evidence).
+        return Ok(ClassEvidence {
+            ln_evidence: f64::NAN,
+            ln_evidence_sd: f64::NAN,
+            k_hat: f64::NAN,
+            converged: false,
+            laplace_ln_evidence: start.ln_evidence(),
+            curvature_scale,
+            rounds: Vec::new(),
+            fe_points,
+            likelihood: policy.likelihood,
+            restarts: 0,
+            higher_ground: Some(high),
+            annealed: None,
+        });
+    }
+    let mut rounds = Vec::new();
     let mut last: Option<CorrectedEvidence> = None;
     let (mut converged, mut higher_ground) = (false, None);
     for round in 0..policy.rounds {
@@ -488,6 +528,7 @@ fn evidence_rounds(
         k_hat: c.k_hat,
         converged,
         laplace_ln_evidence: start.ln_evidence(),
+        curvature_scale,
         rounds,
         fe_points,
         likelihood: policy.likelihood,
@@ -577,6 +618,62 @@ impl Rounds<'_> {
         self.last = Some(LastRound { em, ln_z, checks: checked, round });
         self.ledger.extend(checks.into_iter().zip(exact).map(|(u, l)| (u, l, true)));
         Ok((record, highest))
+    }
+
+    /// Checks the Laplace form's scale by its own draws before the rounds:
+    /// 2d + 2 points drawn from it (whitened z ~ N(0, I), inside the cube)
+    /// run through the FE model, where an exact quadratic drops by ½|z|²
+    /// below the best value; the median of their drops over ½|z|² is the
+    /// factor its curvature is off by (a Gauss–Newton matrix from
+    /// difference steps wider than a sharp likelihood's features is too
+    /// small: its draws then fall hundreds of nats low and no round's
+    /// correction can be trusted). While that factor lies outside [½, 2]
+    /// the curvature is scaled by it, at most
+    /// [`EvidencePolicy::scale_tries`] times. A draw that rises above the
+    /// best value by more than [`rise_limit`] says the form's centre, not
+    /// its scale, is wrong: the check stops there and reports it. The
+    /// points join the ledger. Returns the factor applied in all, the FE
+    /// runs spent and the higher ground found.
+    fn check_scale(&mut self, exec: &mut dyn FeExecutor) -> Result<ScaleCheck, ClassEvidenceError> {
+        use rand::SeedableRng;
+        let d = self.laplace.mode.0.len();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(self.policy.smc.seed ^ SCALE_SEED);
+        let mut check = ScaleCheck { factor: 1.0, fe_points: 0, higher_ground: None };
+        for _ in 0..self.policy.scale_tries {
+            let draws = self.laplace.draws_in_cube(2 * d + 2, &mut rng);
+            if draws.is_empty() {
+                break;
+            }
+            let us: Vec<Vec<f64>> = draws.iter().map(|(u, _)| u.clone()).collect();
+            let points = evaluate_points(&self.ev, &us, exec)?;
+            check.fe_points += us.len();
+            let exact: Vec<f64> = points.iter().map(|p| -p.neg_log_lik_by(&self.lik)).collect();
+            let top = self.laplace.mode.1;
+            let highest = (0..exact.len())
+                .filter(|k| exact[*k].is_finite())
+                .max_by(|a, b| exact[*a].total_cmp(&exact[*b]));
+            let rise = highest.map(|k| (us[k].clone(), exact[k] - top));
+            let mut ratios: Vec<f64> = (draws.iter().zip(&exact))
+                .filter(|((_, q), l)| l.is_finite() && *q > 1e-9)
+                .map(|((_, q), l)| (top - l).max(0.0) / q)
+                .collect();
+            self.ledger.extend(us.into_iter().zip(exact).map(|(u, l)| (u, l, true)));
+            if let Some((u, rise_nats)) = rise.filter(|r| r.1 > rise_limit(d)) {
+                check.higher_ground = Some(HigherGround { u, rise_nats });
+                break;
+            }
+            if ratios.is_empty() {
+                break;
+            }
+            ratios.sort_by(f64::total_cmp);
+            let factor = ratios[ratios.len() / 2].clamp(SCALE_LIMITS.0, SCALE_LIMITS.1);
+            if (0.5..=2.0).contains(&factor) {
+                break;
+            }
+            self.laplace = self.laplace.scaled(factor);
+            check.factor *= factor;
+        }
+        Ok(check)
     }
 
     /// The annealing from the last round ([`Annealed`]); None without a
@@ -752,6 +849,34 @@ impl Laplace {
         Some(Laplace { mode: (mode_u, top), lt: chol.l().transpose() })
     }
 
+    /// This form with its curvature times `factor` (its widths over √factor).
+    fn scaled(&self, factor: f64) -> Laplace {
+        Laplace { mode: self.mode.clone(), lt: &self.lt * factor.sqrt() }
+    }
+
+    /// Up to `n` draws from this form (whitened z ~ N(0, I)) that fall in
+    /// the unit cube, each with its quadratic drop ½|z|² (at most 20 n
+    /// tries: a form much wider than the cube gives fewer).
+    fn draws_in_cube(&self, n: usize, rng: &mut impl rand::Rng) -> Vec<(Vec<f64>, f64)> {
+        let d = self.mode.0.len();
+        let mut out = Vec::with_capacity(n);
+        for _ in 0..20 * n {
+            if out.len() == n {
+                break;
+            }
+            let z = DVector::from_iterator(
+                d,
+                (0..d).map(|_| rng.sample::<f64, _>(rand_distr::StandardNormal)),
+            );
+            let Some(du) = self.lt.clone().solve_upper_triangular(&z) else { break };
+            let u: Vec<f64> = self.mode.0.iter().zip(du.iter()).map(|(m, v)| m + v).collect();
+            if u.iter().all(|v| (0.0..=1.0).contains(v)) {
+                out.push((u, 0.5 * z.norm_squared()));
+            }
+        }
+        out
+    }
+
     /// Whitened coordinates of `u`.
     fn z(&self, u: &[f64]) -> DVector<f64> {
         let du = DVector::from_iterator(u.len(), u.iter().zip(&self.mode.0).map(|(a, b)| a - b));
@@ -774,6 +899,14 @@ impl Laplace {
 /// Precision added to the Gauss–Newton matrix's diagonal: the uniform prior's
 /// on [0, 1] (variance 1/12).
 const PRIOR_PRECISION: f64 = 12.0;
+
+/// The scale check's bounds on one try's factor: 10⁻⁴ to 10⁴, so that a
+/// try whose draws all fail or all sit on rounding noise cannot move the
+/// form by more than a search's own difference steps could be off.
+const SCALE_LIMITS: (f64, f64) = (1e-4, 1e4);
+
+/// Mixed into the SMC seed for the scale check's draws.
+const SCALE_SEED: u64 = 0x5ca1e;
 
 /// A ledger entry: unit-cube point, its FE ln L, whether it was a check.
 type Entry = (Vec<f64>, f64, bool);

@@ -224,7 +224,8 @@ fn annealed_alone(
     let lik = policy.likelihood.with(w);
     let mut off = cal.clone();
     off.points = vec![cal.points[cal.best_by(&lik).unwrap()].clone()];
-    let never = EvidencePolicy { rounds: 1, ..policy.clone() };
+    // Without the scale check, which would mend the form first.
+    let never = EvidencePolicy { rounds: 1, scale_tries: 0, ..policy.clone() };
     let got = class_evidence(&off, &(h / 30.0), data, w, exec, &never).unwrap();
     let a = got.annealed.clone().expect("the rounds did not settle: the annealing runs");
     let (ln_z, sd) = a.estimate.unwrap_or((f64::NAN, f64::NAN));

@@ -1395,6 +1395,7 @@ mod tests {
                     k_hat: 0.2,
                     converged: true,
                     laplace_ln_evidence: z,
+                    curvature_scale: 1.0,
                     rounds: vec![],
                     fe_points: 0,
                     likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,

@@ -159,6 +159,7 @@ mod tests {
             k_hat: 0.3,
             converged: true,
             laplace_ln_evidence: ln_z - 0.2,
+            curvature_scale: 1.0,
             rounds: vec![],
             fe_points: 80,
             likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,

@@ -145,6 +145,10 @@ pub struct EvidenceJson {
     /// The Laplace approximation at the estimate (nats), for comparison.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub laplace_ln_evidence: Option<f64>,
+    /// The factor the scale check put on the search's curvature before the
+    /// rounds (absent when 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub curvature_scale: Option<f64>,
     /// FE parameter points the evidence ran.
     pub fe_points: usize,
     /// Times the calibration's search resumed from higher ground the
@@ -206,6 +210,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                 k_hat: Some(e.k_hat),
                 converged: Some(e.converged),
                 laplace_ln_evidence: Some(e.laplace_ln_evidence),
+                curvature_scale: (e.curvature_scale != 1.0).then_some(e.curvature_scale),
                 fe_points: e.fe_points,
                 restarts: (e.restarts > 0).then_some(e.restarts),
                 annealed: e.annealed.as_ref().map(|a| AnnealedJson {
@@ -229,6 +234,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
             k_hat: None,
             converged: None,
             laplace_ln_evidence: None,
+            curvature_scale: None,
             fe_points: 0,
             restarts: None,
             annealed: None,
