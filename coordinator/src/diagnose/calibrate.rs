@@ -277,9 +277,9 @@ fn judge(ev: &Evaluation<'_>, u: &[f64], theta: &[f64], sims: Sims) -> Full {
                 Ok(m) => m,
                 Err(e) => return (failed(u, e), None),
             };
+            // Missing readings stay NaN: each scale of a local search
+            // treats them as its likelihood does ([`Scale`]).
             let (fits, mut residuals) = ev.fits(&sims);
-            // Missing readings add nothing to a Jacobian.
-            residuals.iter_mut().flatten().filter(|r| !r.is_finite()).for_each(|r| *r = 0.0);
             residuals.extend(modal.as_ref().map(ModalFit::whitened));
             let env = ev.envelope_misfits(&sims);
             let coarse = envelope_neg_log_lik(&env);

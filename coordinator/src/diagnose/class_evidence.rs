@@ -293,14 +293,16 @@ pub struct ClassEvidence {
     /// Whether the stop rule was met (else the rounds ran out).
     pub converged: bool,
     /// The Laplace approximation ln L(u*) + d/2 ln 2π − ½ ln det H, for
-    /// comparison (nat; H the search's, before the scale check).
+    /// comparison and as the class search's guide where the evidence does
+    /// not settle (nat; H the search's times [`curvature_scale`](Self::curvature_scale)).
     pub laplace_ln_evidence: f64,
     /// The factor the scale check put on the search's curvature (1: none
     /// needed or none run; [`Rounds::check_scale`]).
     pub curvature_scale: f64,
     /// Every round, in order.
     pub rounds: Vec<EvidenceRound>,
-    /// FE evaluations this computation ran (the calibration's not counted).
+    /// FE evaluations this computation ran (the calibration's and its
+    /// local searches' not counted: they join the calibration).
     pub fe_points: usize,
     /// The likelihood it integrated.
     pub likelihood: LikelihoodKind,
@@ -476,8 +478,9 @@ fn evidence_rounds(
         ledger: cal.points.iter().map(|p| (p.u.clone(), -p.neg_log_lik_by(&lik), false)).collect(),
         last: None,
     };
-    let scale = driver.check_scale(exec)?;
+    let scale = driver.check_scale(exec, stop_higher)?;
     let (curvature_scale, mut fe_points) = (scale.factor, scale.fe_points);
+    let laplace_ln_evidence = driver.laplace.ln_evidence();
     if let (true, Some(high)) = (stop_higher, scale.higher_ground) {
         // The search resumes from it before any round (see settled_evidence).
         return Ok(ClassEvidence {
@@ -485,7 +488,7 @@ fn evidence_rounds(
             ln_evidence_sd: f64::NAN,
             k_hat: f64::NAN,
             converged: false,
-            laplace_ln_evidence: start.ln_evidence(),
+            laplace_ln_evidence: driver.laplace.ln_evidence(),
             curvature_scale,
             rounds: Vec::new(),
             fe_points,
@@ -527,7 +530,7 @@ fn evidence_rounds(
         ln_evidence_sd: c.ln_evidence_sd,
         k_hat: c.k_hat,
         converged,
-        laplace_ln_evidence: start.ln_evidence(),
+        laplace_ln_evidence,
         curvature_scale,
         rounds,
         fe_points,
@@ -631,10 +634,15 @@ impl Rounds<'_> {
     /// the curvature is scaled by it, at most
     /// [`EvidencePolicy::scale_tries`] times. A draw that rises above the
     /// best value by more than [`rise_limit`] says the form's centre, not
-    /// its scale, is wrong: the check stops there and reports it. The
-    /// points join the ledger. Returns the factor applied in all, the FE
+    /// its scale, is wrong: with `stop_higher` the check stops there and
+    /// reports it (else it goes on, the rounds' refit left to move the
+    /// centre). The points join the ledger. Returns the factor applied in all, the FE
     /// runs spent and the higher ground found.
-    fn check_scale(&mut self, exec: &mut dyn FeExecutor) -> Result<ScaleCheck, ClassEvidenceError> {
+    fn check_scale(
+        &mut self,
+        exec: &mut dyn FeExecutor,
+        stop_higher: bool,
+    ) -> Result<ScaleCheck, ClassEvidenceError> {
         use rand::SeedableRng;
         let d = self.laplace.mode.0.len();
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(self.policy.smc.seed ^ SCALE_SEED);
@@ -658,7 +666,7 @@ impl Rounds<'_> {
                 .map(|((_, q), l)| (top - l).max(0.0) / q)
                 .collect();
             self.ledger.extend(us.into_iter().zip(exact).map(|(u, l)| (u, l, true)));
-            if let Some((u, rise_nats)) = rise.filter(|r| r.1 > rise_limit(d)) {
+            if let Some((u, rise_nats)) = rise.filter(|r| stop_higher && r.1 > rise_limit(d)) {
                 check.higher_ground = Some(HigherGround { u, rise_nats });
                 break;
             }

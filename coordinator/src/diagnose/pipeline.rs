@@ -11,8 +11,8 @@ use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
 use super::class_evidence::EvidencePolicy;
-use super::class_odds::{class_odds, renormalise, settled_ln_posterior, ClassOdds};
-use super::class_search::{search_classes, Tried};
+use super::class_odds::{class_odds, ln_prior, renormalise, settled_ln_posterior, ClassOdds};
+use super::class_search::{search_classes, Tried, Weighed};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
 use super::ensemble;
@@ -771,6 +771,17 @@ fn ln_posterior(r: &CandidateResult, effect_prior: f64) -> Option<f64> {
     settled_ln_posterior(odds, r.cause, effect_prior)
 }
 
+/// What `r`'s class weighs in the class search: its settled log-posterior,
+/// and as a guide where none settled its Laplace approximation's
+/// ([`super::class_search`]).
+fn weighed(r: &CandidateResult, effect_prior: f64) -> Weighed {
+    let settled = ln_posterior(r, effect_prior);
+    let laplace = (r.odds.as_ref().and_then(|o| o.as_ref().ok()))
+        .map(|o| o.evidence.laplace_ln_evidence + ln_prior(r.cause, effect_prior))
+        .filter(|z| z.is_finite());
+    Weighed { settled, guide: settled.or(laplace) }
+}
+
 /// The candidate of highest posterior probability (each effect with prior
 /// probability `effect_prior`) among those that have an evidence (None: no
 /// candidate has).
@@ -845,7 +856,8 @@ impl After<'_> {
         let restarts = if evidence_rule { policy.restarts } else { 0 };
         let policy = &EvidencePolicy { restarts, ..policy.clone() };
         let spent: Vec<usize> = v.cals.iter().map(Calibration::fe_points).collect();
-        let best_u = |cal: &Calibration| cal.best(self.n_eff.0).map(|k| cal.points[k].u.clone());
+        // The best point under the assessment's weights, which choose it.
+        let best_u = |cal: &Calibration| cal.best(self.n_eff.1).map(|k| cal.points[k].u.clone());
         let before: Vec<Option<Vec<f64>>> = v.cals.iter().map(best_u).collect();
         let mut search = self.peak_search(policy, w);
         let mut copies = (!evidence_rule).then(|| v.cals.clone());
@@ -929,9 +941,9 @@ impl After<'_> {
             c.has_place(boundary) && c.indices().all(listed)
         };
         let prior = policy.effect_prior;
-        let mut tried: Tried = results.iter().map(|r| (r.cause, ln_posterior(r, prior))).collect();
+        let mut tried: Tried = results.iter().map(|r| (r.cause, weighed(r, prior))).collect();
         let mut search = self.peak_search(policy, w);
-        let mut try_class = |c: Cause| -> Result<Option<f64>, DiagnoseError> {
+        let mut try_class = |c: Cause| -> Result<Weighed, DiagnoseError> {
             let data = (b, cal_runs);
             let mut cal = v.calibrate_class(c, data, n_eff0, &self.opts.budget, exec, progress)?;
             let stage = format!("class evidence of {}", c.as_str());
@@ -948,7 +960,7 @@ impl After<'_> {
             r.odds = odds.into_iter().next();
             r.fe_points +=
                 r.odds.as_ref().and_then(|o| o.as_ref().ok()).map_or(0, |o| o.evidence.fe_points);
-            let z = ln_posterior(&r, prior);
+            let z = weighed(&r, prior);
             v.cals.push(cal);
             v.linear_parts.push(None);
             results.push(r);
