@@ -82,11 +82,14 @@ impl Setup {
             .map(|i| {
                 let mut cmd = Command::new(bin);
                 cmd.args(["worker", "--transport", self.kind.as_str()])
-                    .args(["--connect", self.endpoint.as_deref().expect("endpoint")])
-                    .args(["--name", &format!("bench{i}")]);
-                if let Some(dir) = &self.certs {
-                    cmd.arg("--zenoh-config").arg(dir.join(format!("worker-{}.json5", i + 1)));
-                }
+                    .args(["--connect", self.endpoint.as_deref().expect("endpoint")]);
+                // A certificate names its worker; otherwise name it here.
+                match &self.certs {
+                    Some(dir) => {
+                        cmd.arg("--zenoh-config").arg(dir.join(format!("worker-{}.json5", i + 1)))
+                    }
+                    None => cmd.args(["--name", &format!("bench{i}")]),
+                };
                 cmd.stdout(Stdio::null()).stderr(Stdio::null()).spawn().expect("spawn worker")
             })
             .collect()

@@ -18,7 +18,9 @@
 //!   keys and sends sealed fake tasks to the real worker's task key; the
 //!   access control's roles drop both at the coordinator, so another
 //!   listed worker's Hello hears only the real Welcome and no fake task is
-//!   answered.
+//!   answered;
+//! - the real worker's configuration with another `--name`: refused before
+//!   it connects, naming the certificate's name.
 //!
 //! The sweep completes with no failed or re-issued task and its export is
 //! byte-identical to an unattacked in-process run.
@@ -220,6 +222,9 @@ struct Impersonation {
     fake_welcomes: AtomicUsize,
 }
 
+/// The real worker's name: its certificate's common name.
+const REAL: &str = "ceilfarm-worker-1";
+
 /// The study hash of the insider's fake Welcome.
 const FAKE_HASH: &str = "f00d";
 
@@ -289,7 +294,7 @@ fn joined_insider(
         seq += 1;
         let task = protocol::ToWorker::Task(protocol::Task { id: TaskId(0), params: vec![0.5; 8] });
         let sealed = mac.seal(Direction::ToWorker, seq, &task).unwrap();
-        for key in [format!("{prefix}/task/real"), format!("{prefix}/task/*")] {
+        for key in [format!("{prefix}/task/{REAL}"), format!("{prefix}/task/*")] {
             let _ = s.put(&key, sealed.clone()).wait();
             let replies = s
                 .get(&key)
@@ -369,7 +374,7 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let listed: Vec<String> = (1..=4).map(|k| format!("ceilfarm-worker-{k}")).collect();
     let ccfg = coordinator_config(lab.cert_pem(), &coordinator, &tls, &listed);
     let ccfg = write(d, "coordinator.json5", &ccfg);
-    let wcfg = write(d, "worker-1.json5", &config_of(&lab, "ceilfarm-worker-1", &tls));
+    let wcfg = write(d, "worker-1.json5", &config_of(&lab, REAL, &tls));
     let insider = config_of(&lab, "ceilfarm-worker-2", &tls);
     let impersonator = config_of(&lab, "ceilfarm-worker-3", &tls);
     let probe = config_of(&lab, "ceilfarm-worker-4", &tls);
@@ -380,6 +385,10 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let month_ago = std::time::SystemTime::now() - Duration::from_secs(30 * 86_400);
     let lapsed = Validity { start: month_ago, days: 1 };
     let expired = valid_config_of(&lab, "ceilfarm-worker-1", &tls, &lapsed);
+
+    // The real worker's configuration under another name stops at once.
+    let misnamed = misnamed_worker(&wcfg, "real");
+    assert!(misnamed.contains("--name real") && misnamed.contains(REAL), "{misnamed}");
 
     let store = d.join("attacked.db");
     let coordinator = Kill(
@@ -429,7 +438,7 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let _worker = Kill(
         Command::new(bin())
             .args(["worker", "--transport", "zenoh", "--zenoh-config", wcfg.to_str().unwrap()])
-            .args(["--threads", "2", "--name", "real", "-v"])
+            .args(["--threads", "2", "-v"])
             .stdout(Stdio::null())
             .stderr(std::fs::File::create(d.join("worker.log")).unwrap())
             .spawn()
@@ -461,6 +470,32 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
         "attacks refused in {:.1} s; the insider answered {insider_answered} task queries with forgeries",
         started.elapsed().as_secs_f64()
     );
+}
+
+/// Starts the worker of configuration `config` as `--name name`; its
+/// error message (it must stop within 10 s without connecting).
+fn misnamed_worker(config: &Path, name: &str) -> String {
+    let mut child = Kill(
+        Command::new(bin())
+            .args(["worker", "--transport", "zenoh", "--zenoh-config", config.to_str().unwrap()])
+            .args(["--name", name])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while Instant::now() < deadline {
+        if let Some(status) = child.0.try_wait().unwrap() {
+            assert!(!status.success(), "a misnamed worker exited 0");
+            let mut err = String::new();
+            use std::io::Read;
+            child.0.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+            return err;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    panic!("a worker named {name} with another worker's certificate was still running after 10 s")
 }
 
 trait WaitOutput {
