@@ -11,7 +11,11 @@
 //! zenoh's security instead: plain zenoh (`tcp/`) against zenoh with the
 //! configurations `ceilfarm farm certs` writes (`tls/`, mutual TLS, access
 //! control) on loopback, the same tasks, run in pairs (plain, then
-//! secured), each pair's ratio printed. The per-sweep MAC is on in both.
+//! secured), each pair's ratio printed, then their median, quartiles and
+//! range. The per-sweep MAC is on in both; its own cost (sealing and
+//! opening a task and its result, less encoding and decoding them) is
+//! measured beside, with the CPU per task of iceoryx2, whose only security
+//! is the MAC.
 
 use coordinator::farm::{run_farm, FarmSettings, ResultSink};
 use coordinator::study::{Study, TransportKind};
@@ -82,11 +86,14 @@ impl Setup {
             .map(|i| {
                 let mut cmd = Command::new(bin);
                 cmd.args(["worker", "--transport", self.kind.as_str()])
-                    .args(["--connect", self.endpoint.as_deref().expect("endpoint")])
-                    .args(["--name", &format!("bench{i}")]);
-                if let Some(dir) = &self.certs {
-                    cmd.arg("--zenoh-config").arg(dir.join(format!("worker-{}.json5", i + 1)));
-                }
+                    .args(["--connect", self.endpoint.as_deref().expect("endpoint")]);
+                // A certificate names its worker; otherwise name it here.
+                match &self.certs {
+                    Some(dir) => {
+                        cmd.arg("--zenoh-config").arg(dir.join(format!("worker-{}.json5", i + 1)))
+                    }
+                    None => cmd.args(["--name", &format!("bench{i}")]),
+                };
                 cmd.stdout(Stdio::null()).stderr(Stdio::null()).spawn().expect("spawn worker")
             })
             .collect()
@@ -384,11 +391,85 @@ fn load_average() -> f64 {
     text.split_whitespace().next().and_then(|v| v.parse().ok()).unwrap_or(0.0)
 }
 
+/// Seconds this thread has run on a CPU (Linux `/proc/thread-self/schedstat`, ns).
+fn thread_cpu_s() -> f64 {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").unwrap_or_default();
+    let ns = text.split_whitespace().next().and_then(|v| v.parse::<f64>().ok());
+    ns.unwrap_or(0.0) * 1e-9
+}
+
+/// The p-quantile of `v` (nearest rank).
+fn quantile(mut v: Vec<f64>, p: f64) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * p).round() as usize]
+}
+
+/// `median (q1–q3, min–max)` of `v`, each as `x{:.2}`.
+fn spread(v: &[f64]) -> String {
+    let q = |p| quantile(v.to_vec(), p);
+    format!(
+        "x{:.2} (q1-q3 x{:.2}-{:.2}, range x{:.2}-{:.2})",
+        q(0.5),
+        q(0.25),
+        q(0.75),
+        q(0.0),
+        q(1.0)
+    )
+}
+
+/// CPU seconds per task, on this thread, of what the MAC adds to a task's
+/// trip: sealing and opening the task and its result (as the coordinator
+/// and a worker do), less encoding and decoding the same messages without
+/// a MAC (which every transport did before). Median of 5 rounds of at
+/// least 0.3 s each over `n` tasks (held in memory: keep `n` small).
+fn mac_cost(spec: &ModelSpec, n: usize) -> f64 {
+    use protocol::seal::{Direction, SweepKey, SweepMac};
+    use protocol::{codec, FromWorker, ToWorker};
+    let mac = SweepMac::new(SweepKey::random(), &format!("{:032x}", rand_hash()));
+    let model = worker::registry::build(spec).expect("model");
+    let messages: Vec<(ToWorker, FromWorker)> = tasks(n)
+        .into_iter()
+        .map(|task| {
+            let outcome = worker::run::run_task(&*model, &spec.param_names, task.id, &task.params);
+            let result = TaskResult { id: task.id, outcome, wall_s: 0.0, host: "bench".into() };
+            (ToWorker::Task(task), FromWorker::Result(result))
+        })
+        .collect();
+    // The scheduler's count moves in ticks: run for at least 0.3 s.
+    let time = |sealed: bool| {
+        let (c0, mut done) = (thread_cpu_s(), 0);
+        while done == 0 || thread_cpu_s() - c0 < 0.3 {
+            for (seq, (task, result)) in messages.iter().enumerate() {
+                let seq = seq as u64;
+                if sealed {
+                    let t = mac.seal(Direction::ToWorker, seq, task).expect("seal");
+                    let _: (u64, ToWorker) = mac.open(Direction::ToWorker, &t).expect("open");
+                    let r = mac.seal(Direction::FromWorker, seq, result).expect("seal");
+                    let _: (u64, FromWorker) = mac.open(Direction::FromWorker, &r).expect("open");
+                } else {
+                    let t = codec::encode(task).expect("encode");
+                    let _: ToWorker = codec::decode(&t).expect("decode");
+                    let r = codec::encode(result).expect("encode");
+                    let _: FromWorker = codec::decode(&r).expect("decode");
+                }
+            }
+            done += n;
+        }
+        (thread_cpu_s() - c0) / done as f64
+    };
+    let rounds: Vec<f64> = (0..5).map(|_| time(true) - time(false)).collect();
+    median(rounds)
+}
+
 /// Plain zenoh against zenoh with `farm certs`' TLS, mutual authentication
 /// and access control, on loopback: per pair (plain run, then secured run,
 /// the same tasks) the one-at-a-time round trip through the farm (1
 /// worker), and wall and CPU (coordinator + workers) per task with 2
-/// workers; each pair's ratio secured / plain, then the medians.
+/// workers; each pair's ratio secured / plain, then their median, quartiles
+/// and range, and each column's own medians. The MAC is on in both; what
+/// it costs on its own is measured per pair beside the CPU per task of
+/// iceoryx2 with 2 workers (whose only security is the MAC) and of plain
+/// zenoh.
 fn security_cost(bin: &str, n: usize, repeats: usize) {
     REPORT_SHORT_RUNS.store(true, std::sync::atomic::Ordering::Relaxed);
     let dir = tempfile::tempdir().expect("temp dir");
@@ -401,17 +482,31 @@ fn security_cost(bin: &str, n: usize, repeats: usize) {
     coordinator::farm_certs::write_lab(dir.path(), &lab).expect("farm certs");
     println!("zenoh on loopback, plain (tcp/) vs secured (tls/, mTLS, access control);");
     println!("rtt: one task at a time, 1 worker; wall, cpu: per task, 2 workers");
-    println!("(cpu = coordinator + workers; ratio = secured / plain)");
+    println!("(cpu = coordinator + workers; ratio = secured / plain; load = 1-min average)");
+    println!("mac: CPU of sealing + opening a task and its result, less encode + decode;");
+    println!(
+        "iox cpu: iceoryx2 (MAC only), cpu per task, 2 workers; mac share = mac / (cpu - mac)"
+    );
+    let mut run = 0;
     for (label, samples, count) in [("small", 0usize, n), ("1MiB", 131_072, n.min(200))] {
         let spec = noop(samples);
         let m = count.min(300);
         let mut ratios: [Vec<f64>; 3] = [vec![], vec![], vec![]];
+        let mut own: [[Vec<f64>; 2]; 3] = Default::default();
+        let (mut macs, mut iox) = (vec![], vec![]);
         println!("\n{label}: {count} tasks (rtt: {m})");
         println!(
-            "{:<6} {:>24} {:>24} {:>24}",
-            "pair", "rtt us plain secured", "wall us plain secured", "cpu us plain secured"
+            "{:<6} {:>24} {:>24} {:>24} {:>8} {:>8} {:>5}",
+            "pair",
+            "rtt us plain secured",
+            "wall us plain secured",
+            "cpu us plain secured",
+            "mac us",
+            "iox cpu",
+            "load"
         );
         for pair in 1..=repeats {
+            let load = load_average();
             let mut row = [[0.0; 2]; 3];
             for (i, secured) in [false, true].into_iter().enumerate() {
                 let setup = || match secured {
@@ -424,18 +519,48 @@ fn security_cost(bin: &str, n: usize, repeats: usize) {
                 row[1][i] = wall * 1e6;
                 row[2][i] = cpu * 1e6;
             }
+            run += 1;
+            let iox_setup = Setup::new(TransportKind::Iceoryx2, run);
+            let (_, iox_cpu) = farm_run(&iox_setup, bin, &spec, tasks(count), 2, 2);
+            iox.push(iox_cpu * 1e6);
+            macs.push(mac_cost(&spec, m.min(20)) * 1e6);
             let cells: Vec<String> = row
                 .iter()
                 .zip(ratios.iter_mut())
-                .map(|([plain, secured], r)| {
+                .zip(own.iter_mut())
+                .map(|(([plain, secured], r), o)| {
                     r.push(secured / plain);
+                    o[0].push(*plain);
+                    o[1].push(*secured);
                     format!("{plain:>8.1} {secured:>8.1} x{:.2}", secured / plain)
                 })
                 .collect();
-            println!("{:<6} {:>24} {:>24} {:>24}", pair, cells[0], cells[1], cells[2]);
+            println!(
+                "{:<6} {:>24} {:>24} {:>24} {:>8.1} {:>8.1} {:>5.1}",
+                pair,
+                cells[0],
+                cells[1],
+                cells[2],
+                macs[pair - 1],
+                iox[pair - 1],
+                load
+            );
         }
-        let med: Vec<String> =
-            ratios.iter().map(|r| format!("x{:.2}", median(r.clone()))).collect();
-        println!("{:<6} {:>24} {:>24} {:>24}", "median", med[0], med[1], med[2]);
+        let names = ["rtt", "wall", "cpu"];
+        for ((name, r), o) in names.iter().zip(&ratios).zip(&own) {
+            let (plain, secured) = (median(o[0].clone()), median(o[1].clone()));
+            println!(
+                "{name:<5} secured/plain {}; medians {plain:.1} -> {secured:.1} us",
+                spread(r)
+            );
+        }
+        let (mac, iox_cpu) = (median(macs), median(iox));
+        let zenoh_cpu = median(own[2][0].clone());
+        println!(
+            "mac   {mac:.1} us per task: iceoryx2 cpu {iox_cpu:.1} us, mac share {:.1} %; \
+             plain zenoh cpu {zenoh_cpu:.1} us, mac share {:.1} %",
+            100.0 * mac / (iox_cpu - mac),
+            100.0 * mac / (zenoh_cpu - mac)
+        );
     }
 }

@@ -13,6 +13,7 @@ pub mod evaluations;
 pub mod export;
 pub mod export_parquet;
 pub mod farm;
+pub mod farm_acl;
 pub mod farm_certs;
 pub mod farm_hand_backs;
 pub mod farm_zenoh_config;

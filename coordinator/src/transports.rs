@@ -73,6 +73,29 @@ pub fn coordinator_transport_secured(
     }
 }
 
+/// The name a worker of transport `kind` announces: over zenoh, the common
+/// name of the certificate its configuration presents, which `requested`
+/// (`--name`) must equal, as the coordinator's access control lets that
+/// certificate serve only that name's tasks; else `requested` (`None`: the
+/// caller's default). Read before connecting, so a wrong name stops the
+/// worker at once.
+pub fn worker_name(
+    kind: TransportKind,
+    security: &ZenohSecurity,
+    requested: Option<&str>,
+) -> Result<Option<String>, anyhow::Error> {
+    match kind {
+        #[cfg(feature = "zenoh")]
+        TransportKind::Zenoh => {
+            Ok(protocol::zenoh_identity::worker_name(&security.into(), requested)?)
+        }
+        _ => {
+            let _ = security;
+            Ok(requested.map(str::to_string))
+        }
+    }
+}
+
 /// Builds the worker's end of the chosen transport; zenoh under `security`.
 pub fn worker_link(
     kind: TransportKind,

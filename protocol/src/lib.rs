@@ -28,6 +28,8 @@ pub mod task_reply;
 pub mod transport;
 #[cfg(feature = "zenoh")]
 pub mod zenoh_config;
+#[cfg(feature = "zenoh")]
+pub mod zenoh_identity;
 pub mod zenoh_keys;
 #[cfg(feature = "zenoh")]
 pub mod zenoh_transport;

@@ -11,7 +11,9 @@
 //! | `coordinator` | the coordinator's liveliness token | workers see it leave |
 //!
 //! The `*_KEYS` patterns match a key of any sweep; the access control
-//! grants each role exactly these.
+//! grants each role exactly these, and a worker's own task and liveliness
+//! keys only to the certificate of its name ([`own_task_keys`],
+//! [`own_alive_keys`]).
 
 /// First chunk of every key of the farm.
 pub const ROOT: &str = "ceilfarm";
@@ -26,6 +28,19 @@ pub const TASK_KEYS: &str = "ceilfarm/*/task/*";
 pub const ALIVE_KEYS: &str = "ceilfarm/*/alive/*/*";
 /// Every sweep's coordinator liveliness key.
 pub const COORDINATOR_KEYS: &str = "ceilfarm/*/coordinator";
+
+/// Worker `name`'s task key of every sweep: what the access control lets
+/// the certificate whose common name is `name` serve and answer, and the
+/// only task queries it passes to it.
+pub fn own_task_keys(name: &str) -> String {
+    format!("{ROOT}/*/task/{name}")
+}
+
+/// Worker `name`'s liveliness keys of every sweep (any slot count): the
+/// only tokens the certificate whose common name is `name` may declare.
+pub fn own_alive_keys(name: &str) -> String {
+    format!("{ROOT}/*/alive/{name}/*")
+}
 
 /// Key prefix of a sweep: the first 16 hex digits of its study hash.
 pub fn sweep_prefix(study_hash: &str) -> String {
@@ -83,5 +98,20 @@ mod tests {
             }
         }
         assert!(!includes(TASK_KEYS, &alive_keys(&prefix)));
+    }
+
+    #[test]
+    fn a_workers_own_keys_hold_its_keys_and_no_other_workers() {
+        let prefix = sweep_prefix(&"ab12".repeat(16));
+        let (own, other) = ("ceilfarm-worker-1", "ceilfarm-worker-2");
+        assert!(includes(&own_task_keys(own), &task_key(&prefix, own)));
+        assert!(includes(&own_alive_keys(own), &alive_key(&prefix, &format!("{own}/4"))));
+        for key in [task_key(&prefix, other), task_key(&prefix, "ceilfarm-worker-10")] {
+            assert!(!includes(&own_task_keys(own), &key), "{key}");
+        }
+        assert!(!includes(&own_task_keys(own), TASK_KEYS), "a wildcard is not its own key");
+        assert!(!includes(&own_alive_keys(own), &alive_key(&prefix, &format!("{other}/4"))));
+        assert!(includes(TASK_KEYS, &own_task_keys(own)));
+        assert!(includes(ALIVE_KEYS, &own_alive_keys(own)));
     }
 }

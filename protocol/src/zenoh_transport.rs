@@ -276,6 +276,9 @@ fn answer_lease(
 /// The worker's end: implements [`WorkerLink`].
 pub struct ZenohWorker {
     session: Session,
+    /// The common name of the certificate the session presents, if any: the
+    /// only name the coordinator's access control lets it serve.
+    certified: Option<(String, std::path::PathBuf)>,
     name: String,
     joined: Option<String>,
     mac: Option<Arc<SweepMac>>,
@@ -287,13 +290,22 @@ pub struct ZenohWorker {
 
 impl ZenohWorker {
     /// Connects to a coordinator's endpoint (e.g. `tls/10.0.0.5:7447`;
-    /// `None`: the configuration file's, else [`DEFAULT_ENDPOINT`]).
+    /// `None`: the configuration file's, else [`DEFAULT_ENDPOINT`]). A
+    /// configuration that presents a certificate fixes the worker's name
+    /// ([`crate::zenoh_identity`]).
     pub fn connect(
         endpoint: Option<&str>,
         security: &ZenohSecurity,
     ) -> Result<Self, TransportError> {
+        let certified = match &security.config {
+            Some(path) => crate::zenoh_identity::certificate_name(path)
+                .map_err(setup)?
+                .map(|name| (name, path.clone())),
+            None => None,
+        };
         Ok(Self {
             session: open_session(Role::Connect, endpoint, security)?,
+            certified,
             name: String::new(),
             joined: None,
             mac: None,
@@ -311,6 +323,15 @@ impl WorkerLink for ZenohWorker {
         request: &JoinRequest,
         timeout: Duration,
     ) -> Result<Option<Joined>, TransportError> {
+        if let Some((certified, path)) = &self.certified {
+            if request.name != *certified {
+                return Err(setup(crate::zenoh_identity::IdentityError::NameMismatch {
+                    requested: request.name.clone(),
+                    certified: certified.clone(),
+                    path: path.clone(),
+                }));
+            }
+        }
         let threads = request.threads.max(1);
         self.name = format!("{}/{threads}", safe_name(&request.name));
         let hello = codec::encode(&FromWorker::Hello {

@@ -27,7 +27,9 @@ pub struct WorkerArgs {
     /// Tasks run at once (default 1).
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
-    /// Name announced to the coordinator (default: host-pid).
+    /// Name announced to the coordinator (default: the common name of the
+    /// --zenoh-config file's certificate, which it must equal if given;
+    /// else host-pid).
     #[arg(long)]
     pub name: Option<String>,
     /// Serve only this study: a study file, or a prefix of its hash (as
@@ -72,9 +74,10 @@ pub fn run(args: WorkerArgs) -> Result<()> {
     let stop = Arc::new(AtomicBool::new(false));
     let connected = Arc::new(AtomicBool::new(false));
     stop_on_signals(stop.clone(), connected.clone())?;
-    let name =
-        args.name.unwrap_or_else(|| format!("{}-{}", worker::run::host_name(), std::process::id()));
     let security = ZenohSecurity { config: args.zenoh_config, insecure: false };
+    let name =
+        coordinator::transports::worker_name(args.transport, &security, args.name.as_deref())?
+            .unwrap_or_else(|| format!("{}-{}", worker::run::host_name(), std::process::id()));
     let mut link =
         coordinator::transports::worker_link(args.transport, args.connect.as_deref(), &security)?;
     connected.store(true, Ordering::SeqCst);

@@ -60,7 +60,7 @@ fn worker(certs: &Path, k: usize, endpoint: &str, log: &Path) -> Kill {
             .args(["worker", "--transport", "zenoh", "--connect", endpoint])
             .arg("--zenoh-config")
             .arg(config)
-            .args(["--name", &format!("large{k}"), "-v"])
+            .arg("-v")
             .stdout(Stdio::null())
             .stderr(std::fs::File::create(log).unwrap())
             .spawn()

@@ -9,16 +9,23 @@
 //!   does not list: connected, but it receives no Welcome, no task query
 //!   and nothing its fake Welcome, liveliness tokens, oversized Hellos or
 //!   puts could change;
-//! - a listed worker certificate that never said Hello (so has no sweep
-//!   key): it hears a real worker's task queries and answers each with a
-//!   forged result, an unsealed result, a result sealed under a guessed
-//!   key, an error reply and a hand-back; none counts;
-//! - a listed worker certificate that said Hello (so holds the sweep's key)
-//!   and plays the coordinator: it serves a fake Welcome on the Welcome
-//!   keys and sends sealed fake tasks to the real worker's task key; the
-//!   access control's roles drop both at the coordinator, so another
-//!   listed worker's Hello hears only the real Welcome and no fake task is
-//!   answered.
+//! - a copy of the real worker's own certificate that never said Hello (so
+//!   has no sweep key): it serves the real worker's task key, hears its
+//!   task queries and answers each with a forged result, an unsealed
+//!   result, a result sealed under a guessed key, an error reply and a
+//!   hand-back; none counts (the MAC);
+//! - another listed worker's certificate that said Hello (so holds the
+//!   sweep's key) and serves the real worker's task key (and every task
+//!   key), answering what it hears with correctly sealed forgeries: the
+//!   access control grants a certificate only the task key of its own
+//!   common name, so it hears no task query and none of its answers counts;
+//! - a listed worker certificate that said Hello and plays the
+//!   coordinator: it serves a fake Welcome on the Welcome keys and sends
+//!   sealed fake tasks to the real worker's task key; the access control's
+//!   roles drop both at the coordinator, so another listed worker's Hello
+//!   hears only the real Welcome and no fake task is answered;
+//! - the real worker's configuration with another `--name`: refused before
+//!   it connects, naming the certificate's name.
 //!
 //! The sweep completes with no failed or re-issued task and its export is
 //! byte-identical to an unattacked in-process run.
@@ -177,10 +184,11 @@ fn oversized_hello() -> Vec<u8> {
     bytes
 }
 
-/// A listed worker certificate without a Hello (no sweep key): answers
-/// every task query it hears with forgeries. Returns how many it answered.
-fn keyless_insider(session: zenoh::Session, stop: Arc<AtomicBool>) -> usize {
-    let tasks = session.declare_queryable("ceilfarm/*/task/*").complete(false).wait().unwrap();
+/// A copy of the real worker's certificate without a Hello (no sweep key):
+/// serves the real worker's task key and answers every task query it hears
+/// with forgeries. Returns how many it answered.
+fn keyless_insider(session: zenoh::Session, task_key: String, stop: Arc<AtomicBool>) -> usize {
+    let tasks = session.declare_queryable(task_key).complete(false).wait().unwrap();
     let guess = SweepMac::new(SweepKey::from_bytes([7; KEY_BYTES]), "guess");
     let mut answered = 0;
     while !stop.load(Ordering::Relaxed) {
@@ -206,6 +214,96 @@ fn keyless_insider(session: zenoh::Session, stop: Arc<AtomicBool>) -> usize {
     answered
 }
 
+/// What another listed worker's certificate, holding the sweep's key, got
+/// from serving the real worker's task key.
+#[derive(Default)]
+struct Impostor {
+    /// Its Hello got the real Welcome (so it held the key).
+    joined: AtomicBool,
+    /// Task queries it heard, and the sealed forgeries it answered them with.
+    heard: AtomicUsize,
+    forged: AtomicUsize,
+}
+
+/// Another listed worker's certificate that says Hello (so holds the
+/// sweep's key), then serves the real worker's task key `victim` (and, for
+/// good measure, every task key) and answers each task query it hears with
+/// a result sealed for its lease: y = 12345, at once, so it would win the
+/// race against the real worker.
+fn key_holding_impostor(
+    session: zenoh::Session,
+    name: &str,
+    victim: String,
+    seen: Arc<Impostor>,
+    stop: Arc<AtomicBool>,
+) {
+    let Some(mac) = join_for_key(&session, name, &stop) else { return };
+    seen.joined.store(true, Ordering::Relaxed);
+    let remote = zenoh::sample::Locality::Remote;
+    let mut queryables = Vec::new();
+    for key in [victim, "ceilfarm/*/task/*".to_string()] {
+        let (mac, seen) = (mac.clone(), seen.clone());
+        let q = session
+            .declare_queryable(key)
+            .allowed_origin(remote)
+            .callback(move |q| {
+                seen.heard.fetch_add(1, Ordering::Relaxed);
+                let bytes = q.payload().map(|p| p.to_bytes().into_owned()).unwrap_or_default();
+                let Ok((seq, protocol::ToWorker::Task(task))) =
+                    mac.open::<protocol::ToWorker>(Direction::ToWorker, &bytes)
+                else {
+                    return;
+                };
+                let outputs = Outputs { scalars: vec![("y".into(), 12345.0)], histories: vec![] };
+                let forged = FromWorker::Result(TaskResult {
+                    id: task.id,
+                    outcome: Outcome::Ok(outputs),
+                    wall_s: 0.0,
+                    host: "impostor".into(),
+                });
+                let sealed = mac.seal(Direction::FromWorker, seq, &forged).unwrap();
+                if q.reply(q.key_expr().clone(), sealed).wait().is_ok() {
+                    seen.forged.fetch_add(1, Ordering::Relaxed);
+                }
+            })
+            .wait()
+            .unwrap();
+        queryables.push(q);
+    }
+    while !stop.load(Ordering::Relaxed) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Says Hello as `name` until the coordinator's Welcome arrives (or
+/// `stop`): the sweep's sealer.
+fn join_for_key(s: &zenoh::Session, name: &str, stop: &AtomicBool) -> Option<SweepMac> {
+    let hello = FromWorker::Hello {
+        proto: protocol::PROTOCOL_VERSION,
+        name: name.into(),
+        threads: 1,
+        study: None,
+    };
+    while !stop.load(Ordering::Relaxed) {
+        let replies = s
+            .get("ceilfarm/*/welcome")
+            .allowed_destination(zenoh::sample::Locality::Remote)
+            .payload(codec::encode(&hello).unwrap())
+            .timeout(Duration::from_millis(500))
+            .wait()
+            .unwrap();
+        while let Ok(r) = replies.recv() {
+            let Ok(sample) = r.result() else { continue };
+            if let Ok(protocol::ToWorker::Welcome { study_hash, key, .. }) =
+                codec::decode(&sample.payload().to_bytes())
+            {
+                return Some(SweepMac::new(key, &study_hash));
+            }
+        }
+    }
+    None
+}
+
 /// What the joined insider and the probe saw.
 #[derive(Default)]
 struct Impersonation {
@@ -219,6 +317,9 @@ struct Impersonation {
     real_welcomes: AtomicUsize,
     fake_welcomes: AtomicUsize,
 }
+
+/// The real worker's name: its certificate's common name.
+const REAL: &str = "ceilfarm-worker-1";
 
 /// The study hash of the insider's fake Welcome.
 const FAKE_HASH: &str = "f00d";
@@ -234,31 +335,7 @@ fn joined_insider(
 ) {
     let s = &session;
     let remote = zenoh::sample::Locality::Remote;
-    let hello = FromWorker::Hello {
-        proto: protocol::PROTOCOL_VERSION,
-        name: "insider".into(),
-        threads: 1,
-        study: None,
-    };
-    let mut mac = None;
-    while mac.is_none() && !stop.load(Ordering::Relaxed) {
-        let replies = s
-            .get("ceilfarm/*/welcome")
-            .allowed_destination(remote)
-            .payload(codec::encode(&hello).unwrap())
-            .timeout(Duration::from_millis(500))
-            .wait()
-            .unwrap();
-        while let Ok(r) = replies.recv() {
-            let Ok(sample) = r.result() else { continue };
-            if let Ok(protocol::ToWorker::Welcome { study_hash, key, .. }) =
-                codec::decode(&sample.payload().to_bytes())
-            {
-                mac = Some(SweepMac::new(key, &study_hash));
-            }
-        }
-    }
-    let Some(mac) = mac else { return };
+    let Some(mac) = join_for_key(s, "insider", &stop) else { return };
     seen.joined.store(true, Ordering::Relaxed);
     let fake = protocol::ToWorker::Welcome {
         study_hash: FAKE_HASH.into(),
@@ -289,7 +366,7 @@ fn joined_insider(
         seq += 1;
         let task = protocol::ToWorker::Task(protocol::Task { id: TaskId(0), params: vec![0.5; 8] });
         let sealed = mac.seal(Direction::ToWorker, seq, &task).unwrap();
-        for key in [format!("{prefix}/task/real"), format!("{prefix}/task/*")] {
+        for key in [format!("{prefix}/task/{REAL}"), format!("{prefix}/task/*")] {
             let _ = s.put(&key, sealed.clone()).wait();
             let replies = s
                 .get(&key)
@@ -369,8 +446,9 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let listed: Vec<String> = (1..=4).map(|k| format!("ceilfarm-worker-{k}")).collect();
     let ccfg = coordinator_config(lab.cert_pem(), &coordinator, &tls, &listed);
     let ccfg = write(d, "coordinator.json5", &ccfg);
-    let wcfg = write(d, "worker-1.json5", &config_of(&lab, "ceilfarm-worker-1", &tls));
-    let insider = config_of(&lab, "ceilfarm-worker-2", &tls);
+    let real = config_of(&lab, REAL, &tls);
+    let wcfg = write(d, "worker-1.json5", &real);
+    let impostor = config_of(&lab, "ceilfarm-worker-2", &tls);
     let impersonator = config_of(&lab, "ceilfarm-worker-3", &tls);
     let probe = config_of(&lab, "ceilfarm-worker-4", &tls);
     let unlisted = config_of(&lab, "ceilfarm-visitor", &tls);
@@ -380,6 +458,10 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let month_ago = std::time::SystemTime::now() - Duration::from_secs(30 * 86_400);
     let lapsed = Validity { start: month_ago, days: 1 };
     let expired = valid_config_of(&lab, "ceilfarm-worker-1", &tls, &lapsed);
+
+    // The real worker's configuration under another name stops at once.
+    let misnamed = misnamed_worker(&wcfg, "real");
+    assert!(misnamed.contains("--name real") && misnamed.contains(REAL), "{misnamed}");
 
     let store = d.join("attacked.db");
     let coordinator = Kill(
@@ -414,9 +496,16 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let hash = coordinator::study::Study::load(&study).unwrap().hash();
     let prefix = format!("ceilfarm/{}", &hash[..16]);
     let visitor = std::thread::spawn(move || unlisted_attacker(visitor, prefix, s2, st2));
-    let insider = client(&insider, &tls).expect("the insider connects");
-    let st3 = stop.clone();
-    let insider = std::thread::spawn(move || keyless_insider(insider, st3));
+    let insider = client(&real, &tls).expect("the keyless copy connects");
+    let (st3, real_key) = (stop.clone(), format!("ceilfarm/{}/task/{REAL}", &hash[..16]));
+    let insider = std::thread::spawn(move || keyless_insider(insider, real_key, st3));
+    let posing = Arc::new(Impostor::default());
+    let impostor = client(&impostor, &tls).expect("the impostor connects");
+    let (p6, st6, real_key) =
+        (posing.clone(), stop.clone(), format!("ceilfarm/{}/task/{REAL}", &hash[..16]));
+    let impostor = std::thread::spawn(move || {
+        key_holding_impostor(impostor, "ceilfarm-worker-2", real_key, p6, st6)
+    });
     let posed = Arc::new(Impersonation::default());
     let impersonator = client(&impersonator, &tls).expect("the joined insider connects");
     let (p4, st4, prefix) = (posed.clone(), stop.clone(), format!("ceilfarm/{}", &hash[..16]));
@@ -429,7 +518,7 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     let _worker = Kill(
         Command::new(bin())
             .args(["worker", "--transport", "zenoh", "--zenoh-config", wcfg.to_str().unwrap()])
-            .args(["--threads", "2", "--name", "real", "-v"])
+            .args(["--threads", "2", "-v"])
             .stdout(Stdio::null())
             .stderr(std::fs::File::create(d.join("worker.log")).unwrap())
             .spawn()
@@ -439,8 +528,17 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     stop.store(true, Ordering::Relaxed);
     visitor.join().unwrap();
     let insider_answered = insider.join().unwrap();
+    impostor.join().unwrap();
     impersonator.join().unwrap();
     probe.join().unwrap();
+    let attacked = export(&store, d, "attacked.csv");
+    let forged_rows = String::from_utf8_lossy(&attacked).matches("12345").count();
+    let count = |n: &AtomicUsize| n.load(Ordering::Relaxed);
+    let (heard, forged) = (count(&posing.heard), count(&posing.forged));
+    eprintln!(
+        "worker-2's certificate on {REAL}'s task key: heard {heard} task queries, answered \
+         {forged} with sealed forgeries; {forged_rows} forged values in the store"
+    );
 
     let summary: serde_json::Value = serde_json::from_str(out.trim()).expect("summary");
     assert_eq!(summary["ok"], 40, "{summary}");
@@ -450,17 +548,49 @@ fn attacks_on_a_secured_sweep_are_refused_and_the_export_is_unchanged() {
     assert_eq!(seen.task_queries.load(Ordering::Relaxed), 0, "it heard task queries");
     assert!(seen.hellos_sent.load(Ordering::Relaxed) >= 2, "the attacker never tried");
     assert!(insider_answered > 0, "the insider heard no task query: the MAC was not tried");
-    let count = |n: &AtomicUsize| n.load(Ordering::Relaxed);
+    assert!(posing.joined.load(Ordering::Relaxed), "the impostor never held the sweep's key");
+    assert_eq!(
+        (heard, forged, forged_rows),
+        (0, 0, 0),
+        "another worker's certificate served {REAL}'s task key (task queries heard, sealed \
+         forgeries answered, forged values stored)"
+    );
     assert!(posed.joined.load(Ordering::Relaxed), "the insider never held the sweep's key");
     assert!(count(&posed.fake_tasks) > 0, "the insider sent no fake task");
     assert!(count(&posed.real_welcomes) > 0, "the probe's Hello never reached the coordinator");
     assert_eq!(count(&posed.fake_welcomes), 0, "a listed worker's Hello got the fake Welcome");
     assert_eq!(count(&posed.fake_task_replies), 0, "a worker answered the insider's fake task");
-    assert_eq!(export(&store, d, "attacked.csv"), want, "exports differ");
+    assert_eq!(attacked, want, "exports differ");
     eprintln!(
         "attacks refused in {:.1} s; the insider answered {insider_answered} task queries with forgeries",
         started.elapsed().as_secs_f64()
     );
+}
+
+/// Starts the worker of configuration `config` as `--name name`; its
+/// error message (it must stop within 10 s without connecting).
+fn misnamed_worker(config: &Path, name: &str) -> String {
+    let mut child = Kill(
+        Command::new(bin())
+            .args(["worker", "--transport", "zenoh", "--zenoh-config", config.to_str().unwrap()])
+            .args(["--name", name])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while Instant::now() < deadline {
+        if let Some(status) = child.0.try_wait().unwrap() {
+            assert!(!status.success(), "a misnamed worker exited 0");
+            let mut err = String::new();
+            use std::io::Read;
+            child.0.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+            return err;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    panic!("a worker named {name} with another worker's certificate was still running after 10 s")
 }
 
 trait WaitOutput {
