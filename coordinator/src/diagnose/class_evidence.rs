@@ -410,12 +410,12 @@ pub fn class_evidence(
 /// (unit cube) over a calibration, its points joining it, its FE runs
 /// through the executor given: the Gauss–Newton matrix of −ln L where it
 /// ended (None: it could not linearise) ([`super::resume::peak_search`]).
-pub type PeakSearch<'r> = dyn FnMut(
-        &mut Calibration,
-        Vec<f64>,
-        &mut dyn FeExecutor,
-    ) -> Result<Option<DMatrix<f64>>, ExecutorError>
-    + 'r;
+pub type PeakSearch<'r> =
+    dyn FnMut(&mut Calibration, Vec<f64>, &mut dyn FeExecutor) -> PeakResult + 'r;
+
+/// What a [`PeakSearch`] gives: the Gauss–Newton matrix of −ln L where it
+/// ended (None: it could not linearise).
+pub type PeakResult = Result<Option<DMatrix<f64>>, ExecutorError>;
 
 /// [`class_evidence`] from `search`'s end: from `cal`'s best point under
 /// the policy's likelihood first, then, when a round's checks find higher
@@ -469,39 +469,25 @@ fn evidence_rounds(
     policy.check()?;
     let lik = policy.likelihood.with(w);
     let d = cal.priors.len();
-    let start = Laplace::of(cal, &lik, h)?;
     let mut driver = Rounds {
         ev: cal.evaluation(bundle, runs),
         lik,
         policy,
-        laplace: start.clone(),
+        laplace: Laplace::of(cal, &lik, h)?,
         ledger: cal.points.iter().map(|p| (p.u.clone(), -p.neg_log_lik_by(&lik), false)).collect(),
         last: None,
     };
     let scale = driver.check_scale(exec, stop_higher)?;
     let (curvature_scale, mut fe_points) = (scale.factor, scale.fe_points);
     let laplace_ln_evidence = driver.laplace.ln_evidence();
-    if let (true, Some(high)) = (stop_higher, scale.higher_ground) {
-        // The search resumes from it before any round (see settled_evidence).
-        return Ok(ClassEvidence {
-            ln_evidence: f64::NAN,
-            ln_evidence_sd: f64::NAN,
-            k_hat: f64::NAN,
-            converged: false,
-            laplace_ln_evidence: driver.laplace.ln_evidence(),
-            curvature_scale,
-            rounds: Vec::new(),
-            fe_points,
-            likelihood: policy.likelihood,
-            restarts: 0,
-            higher_ground: Some(high),
-            annealed: None,
-        });
-    }
+    // Higher ground the check found (only with stop_higher): the search
+    // resumes from it before any round (see settled_evidence).
+    let mut higher_ground = scale.higher_ground;
+    let rounds_left = if higher_ground.is_some() { 0 } else { policy.rounds };
     let mut rounds = Vec::new();
     let mut last: Option<CorrectedEvidence> = None;
-    let (mut converged, mut higher_ground) = (false, None);
-    for round in 0..policy.rounds {
+    let mut converged = false;
+    for round in 0..rounds_left {
         let (record, highest) = driver.round(round, exec)?;
         fe_points += record.fe_points;
         if let Some(c) = record.corrected.clone() {
@@ -518,17 +504,19 @@ fn evidence_rounds(
             break;
         }
     }
-    let Some(c) = last else {
-        return Err(ClassEvidenceError::NoCheck { rounds: rounds.len() });
+    let (ln_evidence, ln_evidence_sd, k_hat) = match (&last, &higher_ground) {
+        (Some(c), _) => (c.ln_evidence, c.ln_evidence_sd, c.k_hat),
+        (None, Some(_)) => (f64::NAN, f64::NAN, f64::NAN),
+        (None, None) => return Err(ClassEvidenceError::NoCheck { rounds: rounds.len() }),
     };
     let annealed = match converged || higher_ground.is_some() || policy.anneal_runs == 0 {
         true => None,
         false => driver.anneal(exec)?,
     };
     let mut got = ClassEvidence {
-        ln_evidence: c.ln_evidence,
-        ln_evidence_sd: c.ln_evidence_sd,
-        k_hat: c.k_hat,
+        ln_evidence,
+        ln_evidence_sd,
+        k_hat,
         converged,
         laplace_ln_evidence,
         curvature_scale,
@@ -597,12 +585,9 @@ impl Rounds<'_> {
             .map_err(|e| ClassEvidenceError::Smc { round: round + 1, message: e.to_string() })?;
         let idx = check_indices(&run, self.policy.checks);
         let checks: Vec<Vec<f64>> = idx.iter().map(|&i| run.particles[i].clone()).collect();
-        let points = evaluate_points(&self.ev, &checks, exec)?;
-        let exact: Vec<f64> = points.iter().map(|p| -p.neg_log_lik_by(&self.lik)).collect();
+        let exact = self.fe_ln_l(&checks, exec)?;
         let before = self.ledger.iter().map(|e| e.1).fold(f64::NEG_INFINITY, f64::max);
-        let highest = (0..exact.len())
-            .filter(|k| exact[*k].is_finite())
-            .max_by(|a, b| exact[*a].total_cmp(&exact[*b]));
+        let highest = highest(&exact);
         let rise_nats = highest.map_or(f64::NEG_INFINITY, |k| exact[k] - before);
         let highest = highest.map(|k| checks[k].clone());
         let record = EvidenceRound {
@@ -621,6 +606,17 @@ impl Rounds<'_> {
         self.last = Some(LastRound { em, ln_z, checks: checked, round });
         self.ledger.extend(checks.into_iter().zip(exact).map(|(u, l)| (u, l, true)));
         Ok((record, highest))
+    }
+
+    /// The FE model's ln L at unit-cube points `us` (−∞ where a simulation
+    /// failed).
+    fn fe_ln_l(
+        &self,
+        us: &[Vec<f64>],
+        exec: &mut dyn FeExecutor,
+    ) -> Result<Vec<f64>, ExecutorError> {
+        let points = evaluate_points(&self.ev, us, exec)?;
+        Ok(points.iter().map(|p| -p.neg_log_lik_by(&self.lik)).collect())
     }
 
     /// Checks the Laplace form's scale by its own draws before the rounds:
@@ -653,14 +649,10 @@ impl Rounds<'_> {
                 break;
             }
             let us: Vec<Vec<f64>> = draws.iter().map(|(u, _)| u.clone()).collect();
-            let points = evaluate_points(&self.ev, &us, exec)?;
+            let exact = self.fe_ln_l(&us, exec)?;
             check.fe_points += us.len();
-            let exact: Vec<f64> = points.iter().map(|p| -p.neg_log_lik_by(&self.lik)).collect();
             let top = self.laplace.mode.1;
-            let highest = (0..exact.len())
-                .filter(|k| exact[*k].is_finite())
-                .max_by(|a, b| exact[*a].total_cmp(&exact[*b]));
-            let rise = highest.map(|k| (us[k].clone(), exact[k] - top));
+            let rise = highest(&exact).map(|k| (us[k].clone(), exact[k] - top));
             let mut ratios: Vec<f64> = (draws.iter().zip(&exact))
                 .filter(|((_, q), l)| l.is_finite() && *q > 1e-9)
                 .map(|((_, q), l)| (top - l).max(0.0) / q)
@@ -713,10 +705,9 @@ impl Rounds<'_> {
         let mut spent = 0;
         let mut ratio = |us: &[Vec<f64>]| -> Result<Vec<f64>, AnnealError> {
             let emulated = em.ln_l(us)?;
-            let points = evaluate_points(&self.ev, us, exec)?;
+            let exact = self.fe_ln_l(us, exec)?;
             spent += us.len();
-            let exact = points.iter().map(|p| -p.neg_log_lik_by(&self.lik));
-            Ok(exact.zip(emulated).map(|(x, e)| x - e).collect())
+            Ok(exact.into_iter().zip(emulated).map(|(x, e)| x - e).collect())
         };
         let smc = TemperedSmc::new(options);
         let (estimate, stages, beta) = match smc.run_from(start, &ln_base, &mut ratio) {
@@ -902,6 +893,11 @@ impl Laplace {
         let ln_det: f64 = self.lt.diagonal().iter().map(|v| 2.0 * v.ln()).sum();
         self.mode.1 + 0.5 * d * (2.0 * std::f64::consts::PI).ln() - 0.5 * ln_det
     }
+}
+
+/// The index of the highest finite value of `ln_l` (None: none is finite).
+fn highest(ln_l: &[f64]) -> Option<usize> {
+    (0..ln_l.len()).filter(|k| ln_l[*k].is_finite()).max_by(|a, b| ln_l[*a].total_cmp(&ln_l[*b]))
 }
 
 /// Precision added to the Gauss–Newton matrix's diagonal: the uniform prior's

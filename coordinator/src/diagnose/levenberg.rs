@@ -148,12 +148,15 @@ impl Search<'_, '_> {
                 state.spent += 1;
                 attempt += 1;
                 let ft = set.scale.objective(&p, self.n_eff);
-                cal.points.push(p.clone());
-                progress(cal.points.len());
-                if ft < centre.f {
-                    let gain = centre.f - ft;
-                    let centre_eval = std::iter::once((p, r));
+                let taken = ft < centre.f;
+                if taken {
+                    let centre_eval = std::iter::once((p.clone(), r));
                     state.ahead = Some((trial.clone(), centre_eval.chain(stencil).collect()));
+                }
+                cal.points.push(p);
+                progress(cal.points.len());
+                if taken {
+                    let gain = centre.f - ft;
                     state.u = trial;
                     state.lambda = (state.lambda * 0.3).max(1e-6);
                     return Ok(if gain < 0.01 { LmStep::Converged } else { LmStep::Moved });

@@ -10,7 +10,7 @@ use super::calibrate::{calibrate, evaluate_points, Around, Budget, Calibration};
 use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
-use super::class_evidence::EvidencePolicy;
+use super::class_evidence::{EvidencePolicy, PeakResult};
 use super::class_odds::{class_odds, ln_prior, renormalise, settled_ln_posterior, ClassOdds};
 use super::class_search::{search_classes, Tried, Weighed};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
@@ -37,10 +37,6 @@ use crate::bundle::{Bundle, Direction, RunRole};
 use stats::gp::Gp;
 use std::cell::RefCell;
 use std::rc::Rc;
-
-/// What a class evidence's local search gives: the Gauss–Newton matrix
-/// of −ln L where it ended (None: it could not linearise).
-type PeakResult = Result<Option<nalgebra::DMatrix<f64>>, ExecutorError>;
 
 /// Choices of a diagnosis.
 #[derive(Debug, Clone)]
