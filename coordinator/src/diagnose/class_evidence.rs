@@ -337,6 +337,32 @@ pub struct Annealed {
     pub fe_points: usize,
     /// The temperature reached (1: the FE posterior).
     pub beta: f64,
+    /// When the FE runs ran out first: ln Z bounded below from the
+    /// temperature reached and its standard error (nat; ln Z̃'s and the
+    /// bound's combined; [`stats::evidence::LowerBound`]); None otherwise.
+    pub lower: Option<(f64, f64)>,
+}
+
+/// Standard errors below a lower bound's estimate at which the bound is
+/// counted ([`ClassEvidence::counted_ln_evidence`]): 2, so that, its error
+/// being normal, the counted value lies below the bound with probability
+/// 0.98 (the same two standard errors at which two rounds agree).
+pub const BOUND_SDS: f64 = 2.0;
+
+impl ClassEvidence {
+    /// The ln Z at which the class is compared with others: the estimate
+    /// when it settled; else, when an annealing ran out of FE runs before
+    /// the FE posterior, its lower bound less [`BOUND_SDS`] standard
+    /// errors (a class whose evidence is known to be at least this much
+    /// is weighed at it: conservative for that class, never for its
+    /// rivals); None otherwise (an unsettled estimate is never compared).
+    pub fn counted_ln_evidence(&self) -> Option<f64> {
+        if self.converged {
+            return Some(self.ln_evidence);
+        }
+        let (bound, sd) = self.annealed.as_ref()?.lower?;
+        Some(bound - BOUND_SDS * sd).filter(|v| v.is_finite())
+    }
 }
 
 /// What the curvature's scale check found ([`Rounds::check_scale`]).
@@ -710,14 +736,15 @@ impl Rounds<'_> {
             Ok(exact.into_iter().zip(emulated).map(|(x, e)| x - e).collect())
         };
         let smc = TemperedSmc::new(options);
-        let (estimate, stages, beta) = match smc.run_from(start, &ln_base, &mut ratio) {
+        let with_z = |sd: f64| (last.ln_z.1.powi(2) + sd.powi(2)).sqrt();
+        let (estimate, stages, beta, lower) = match smc.run_from(start, &ln_base, &mut ratio) {
             Ok(run) => {
-                let sd = (last.ln_z.1.powi(2) + run.ln_evidence_sd.powi(2)).sqrt();
-                (Some((run.ln_evidence, sd)), run.stages.len(), 1.0)
+                let sd = with_z(run.ln_evidence_sd);
+                (Some((run.ln_evidence, sd)), run.stages.len(), 1.0, None)
             }
-            Err(SmcError::Stages { beta, stages }) => {
-                tracing::debug!(beta, stages, "annealing ran out of FE runs");
-                (None, stages, beta)
+            Err(SmcError::Stages { beta, stages, lower }) => {
+                tracing::debug!(beta, stages, ?lower, "annealing ran out of FE runs");
+                (None, stages, beta, lower.map(|b| (b.ln_evidence, with_z(b.sd))))
             }
             Err(SmcError::Likelihood(AnnealError::Executor(e))) => return Err(e.into()),
             Err(e) => {
@@ -725,7 +752,7 @@ impl Rounds<'_> {
                 return Err(ClassEvidenceError::Smc { round: last.round + 1, message });
             }
         };
-        Ok(Some(Annealed { estimate, stages, fe_points: spent, beta }))
+        Ok(Some(Annealed { estimate, stages, fe_points: spent, beta, lower }))
     }
 }
 

@@ -15,6 +15,7 @@ use super::cause::Cause;
 use super::class_evidence::{
     settled_evidence, ClassEvidence, ClassEvidenceError, EvidencePolicy, PeakSearch,
 };
+use super::class_search::Weighed;
 use super::effect::EFFECTS;
 use super::executor::{ExecutorError, FeExecutor};
 use super::likelihood::ChannelWeights;
@@ -25,8 +26,8 @@ use crate::bundle::Bundle;
 pub struct ClassOdds {
     /// The evidence, its error and its rounds.
     pub evidence: ClassEvidence,
-    /// Posterior probability among the classes whose evidence settled
-    /// (NaN for one that did not).
+    /// Posterior probability among the classes whose evidence is counted
+    /// (NaN for one that is not: [`counted_ln_posterior`]).
     pub probability: f64,
     /// The prior probability of each effect it was weighed under
     /// ([`EvidencePolicy::effect_prior`]).
@@ -75,15 +76,15 @@ pub fn class_odds(
 
 /// Sets each class's posterior probability among `classes` (its cause and
 /// its odds, None for one without an evidence): evidence times prior
-/// (`effect_prior`, [`ln_prior`]) over those whose evidence settled
-/// ([`settled_ln_posterior`]); NaN for the others.
+/// (`effect_prior`, [`ln_prior`]) over those whose evidence is counted
+/// ([`counted_ln_posterior`]); NaN for the others.
 pub fn renormalise<'o>(
     classes: impl Iterator<Item = (Cause, Option<&'o mut ClassOdds>)>,
     effect_prior: f64,
 ) {
     let mut classes: Vec<(Cause, Option<&mut ClassOdds>)> = classes.collect();
     let ln_post: Vec<f64> = (classes.iter())
-        .map(|(c, o)| o.as_ref().and_then(|o| settled_ln_posterior(o, *c, effect_prior)))
+        .map(|(c, o)| o.as_ref().and_then(|o| counted_ln_posterior(o, *c, effect_prior)))
         .map(|z| z.unwrap_or(f64::NAN))
         .collect();
     for ((_, o), p) in classes.iter_mut().zip(probabilities(&ln_post)) {
@@ -93,12 +94,37 @@ pub fn renormalise<'o>(
     }
 }
 
-/// The unnormalised log-posterior of class `cause` (its log-evidence plus
-/// [`ln_prior`] under `effect_prior`) when its evidence settled; None when
-/// its rounds ran out first: such an evidence is reported, never compared,
-/// and takes no share of the probability.
-pub fn settled_ln_posterior(o: &ClassOdds, cause: Cause, effect_prior: f64) -> Option<f64> {
-    o.evidence.converged.then(|| o.evidence.ln_evidence + ln_prior(cause, effect_prior))
+/// The unnormalised log-posterior of class `cause` (its counted
+/// log-evidence plus [`ln_prior`] under `effect_prior`): the estimate when
+/// it settled, a lower bound when an annealing ran out of FE runs before
+/// the FE posterior ([`ClassEvidence::counted_ln_evidence`]); None for an
+/// evidence that neither settled nor is bounded: it is reported, never
+/// compared, and takes no share of the probability. A bounded class's
+/// probability so computed is a lower bound on its probability against
+/// settled classes; two bounded classes are not ordered by their bounds
+/// (the higher bound is not known to be the higher evidence).
+pub fn counted_ln_posterior(o: &ClassOdds, cause: Cause, effect_prior: f64) -> Option<f64> {
+    (o.evidence.counted_ln_evidence()).map(|z| z + ln_prior(cause, effect_prior))
+}
+
+/// What class `cause` weighs in the class search ([`Weighed`]): its
+/// counted log-posterior ([`counted_ln_posterior`]) and its guide. The
+/// guide is the settled value when the evidence settled; else the Laplace
+/// approximation's log-posterior, never below the counted bound: a bound
+/// says what the evidence is at least, conservative for naming, while the
+/// search looks where the evidence may be highest.
+pub fn weighed(o: &ClassOdds, cause: Cause, effect_prior: f64) -> Weighed {
+    let counted = counted_ln_posterior(o, cause, effect_prior);
+    if o.evidence.converged {
+        return Weighed::counted(counted);
+    }
+    let laplace = Some(o.evidence.laplace_ln_evidence + ln_prior(cause, effect_prior))
+        .filter(|z| z.is_finite());
+    let guide = match (counted, laplace) {
+        (Some(c), Some(l)) => Some(c.max(l)),
+        (c, l) => c.or(l),
+    };
+    Weighed { counted, guide }
 }
 
 /// Posterior probabilities from unnormalised log-posteriors (ln Z plus ln
@@ -145,5 +171,77 @@ mod tests {
         let p = probabilities(&[-5000.0, -5001.0]);
         assert!((p[0] - 1.0 / (1.0 + (-1f64).exp())).abs() < 1e-12);
         assert!(probabilities(&[f64::NAN]).iter().all(|v| v.is_nan()));
+    }
+
+    fn evidence(z: f64, converged: bool, lower: Option<(f64, f64)>) -> ClassOdds {
+        with_laplace(z, converged, lower, z)
+    }
+
+    fn with_laplace(z: f64, converged: bool, lower: Option<(f64, f64)>, laplace: f64) -> ClassOdds {
+        use super::super::class_evidence::Annealed;
+        use super::super::likelihood::LikelihoodKind;
+        let annealed = lower.map(|lower| Annealed {
+            estimate: None,
+            stages: 8,
+            fe_points: 640,
+            beta: 0.9,
+            lower: Some(lower),
+        });
+        let evidence = ClassEvidence {
+            ln_evidence: z,
+            ln_evidence_sd: 0.2,
+            k_hat: 0.3,
+            converged,
+            laplace_ln_evidence: laplace,
+            curvature_scale: 1.0,
+            rounds: vec![],
+            fe_points: 0,
+            likelihood: LikelihoodKind::Band,
+            restarts: 0,
+            higher_ground: None,
+            annealed,
+        };
+        ClassOdds { evidence, probability: f64::NAN, effect_prior: 0.5 }
+    }
+
+    #[test]
+    fn a_class_bounded_below_is_counted_at_its_bound_and_an_unsettled_one_not_at_all() {
+        let (a, b) = (Cause::PERIMETER_FRICTION, Cause::PERIMETER_POUNDING);
+        // Friction settled at 100; pounding not settled, its annealing's
+        // bound 104 ± 1.5: counted at 101, so e^1 : 1 for pounding.
+        let mut odds = [evidence(100.0, true, None), evidence(900.0, false, Some((104.0, 1.5)))];
+        assert_eq!(odds[1].evidence.counted_ln_evidence(), Some(101.0));
+        let [fa, pb] = &mut odds;
+        renormalise([(a, Some(fa)), (b, Some(pb))].into_iter(), 0.5);
+        let e = std::f64::consts::E;
+        assert!((odds[1].probability - e / (1.0 + e)).abs() < 1e-12, "{}", odds[1].probability);
+        // The same class unsettled without a bound (its estimate 900 nat
+        // above, never compared) takes no share.
+        let mut odds = [evidence(100.0, true, None), evidence(900.0, false, None)];
+        assert_eq!(odds[1].evidence.counted_ln_evidence(), None);
+        let [fa, pb] = &mut odds;
+        renormalise([(a, Some(fa)), (b, Some(pb))].into_iter(), 0.5);
+        assert_eq!(odds[0].probability, 1.0);
+        assert!(odds[1].probability.is_nan());
+        // A settled class is counted at its estimate, bound or not.
+        assert_eq!(evidence(7.0, true, Some((1.0, 1.0))).evidence.counted_ln_evidence(), Some(7.0));
+    }
+
+    #[test]
+    fn a_bounded_class_guides_the_search_by_its_laplace_value_when_higher() {
+        let c = Cause::PERIMETER_FRICTION;
+        let prior = ln_prior(c, 0.5);
+        // Bounded: counted at 101, its Laplace approximation at 140 leads.
+        let w = weighed(&with_laplace(900.0, false, Some((104.0, 1.5)), 140.0), c, 0.5);
+        assert_eq!(w, Weighed { counted: Some(101.0 + prior), guide: Some(140.0 + prior) });
+        // A Laplace value below the bound never lowers the guide.
+        let w = weighed(&with_laplace(900.0, false, Some((104.0, 1.5)), 60.0), c, 0.5);
+        assert_eq!(w.guide, Some(101.0 + prior));
+        // Neither settled nor bounded: the Laplace value guides, nothing is counted.
+        let w = weighed(&with_laplace(900.0, false, None, 60.0), c, 0.5);
+        assert_eq!(w, Weighed { counted: None, guide: Some(60.0 + prior) });
+        // Settled: the estimate is both.
+        let w = weighed(&with_laplace(70.0, true, None, 500.0), c, 0.5);
+        assert_eq!(w, Weighed::counted(Some(70.0 + prior)));
     }
 }

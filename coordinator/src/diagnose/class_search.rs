@@ -8,8 +8,10 @@
 //! [`super::class_odds::ln_prior`]; equal priors by default), so a class is
 //! kept only when its gain in fit outweighs its Occam factor and its prior.
 //!
-//! Only a settled evidence names a class, but where to look next need not
-//! wait for one: a class whose evidence did not settle still has a guide,
+//! Only a counted evidence (settled, or bounded below by an annealing that
+//! ran out of FE runs: [`super::class_evidence::ClassEvidence::counted_ln_evidence`])
+//! names a class, but where to look next need not
+//! wait for one: a class whose evidence is not counted still has a guide,
 //! its Laplace approximation, and the class of highest guide is expanded
 //! too. A sharp class that fits far better than every settled one (its
 //! evidence unsettled) would otherwise be a dead end: on the independent
@@ -26,28 +28,29 @@ use super::effect::EFFECTS;
 /// plus log-prior).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Weighed {
-    /// By a settled evidence (None: none settled, or none computed).
-    pub settled: Option<f64>,
+    /// By a counted evidence (None: none counted, or none computed).
+    pub counted: Option<f64>,
     /// Where to look next: the settled value, else the Laplace
-    /// approximation's (None: no evidence computed at all).
+    /// approximation's, never below a counted bound
+    /// ([`super::class_odds::weighed`]; None: no evidence computed at all).
     pub guide: Option<f64>,
 }
 
 impl Weighed {
-    /// A class weighed by a settled evidence `z` (None: not settled, and no
+    /// A class weighed by a counted evidence `z` (None: not counted, and no
     /// guide either).
-    pub fn settled(z: Option<f64>) -> Self {
-        Weighed { settled: z, guide: z }
+    pub fn counted(z: Option<f64>) -> Self {
+        Weighed { counted: z, guide: z }
     }
 }
 
 /// What each class tried weighs.
 pub type Tried = BTreeMap<Cause, Weighed>;
 
-/// The class of highest settled posterior among those tried (None: none
+/// The class of highest counted posterior among those tried (None: none
 /// has one).
 pub fn best_class(tried: &Tried) -> Option<Cause> {
-    best_by(tried, |w| w.settled)
+    best_by(tried, |w| w.counted)
 }
 
 /// The class of highest `value` among those tried.
@@ -61,7 +64,7 @@ fn best_by(tried: &Tried, value: impl Fn(&Weighed) -> Option<f64>) -> Option<Cau
 
 /// Extends `tried` by the forward–backward search: `in_place` says which
 /// classes the specimen admits, `try_class` calibrates one class and
-/// returns what it weighs. Each round expands the class of highest settled
+/// returns what it weighs. Each round expands the class of highest counted
 /// posterior and the class of highest guide (each once): every class one
 /// effect more or one fewer is tried. Returns the classes it tried, in
 /// order.
@@ -108,9 +111,9 @@ mod tests {
             table.iter().find(|(n, _)| Cause::parse(n) == Some(c)).map_or(-1e9, |(_, z)| *z)
         };
         let mut tried: Tried =
-            Cause::ALL.iter().map(|c| (*c, Weighed::settled(Some(z(*c))))).collect();
+            Cause::ALL.iter().map(|c| (*c, Weighed::counted(Some(z(*c))))).collect();
         let order =
-            search_classes::<()>(&mut tried, &|_| true, &mut |c| Ok(Weighed::settled(Some(z(c)))))
+            search_classes::<()>(&mut tried, &|_| true, &mut |c| Ok(Weighed::counted(Some(z(c)))))
                 .unwrap();
         (best_class(&tried), order)
     }
@@ -171,8 +174,8 @@ mod tests {
         // Friction settled best among the singles; pounding and hysteresis
         // did not settle but their Laplace guides are far higher: the pair
         // of the two is reached from them, and named once it settles.
-        let settled = |z: f64| Weighed::settled(Some(z));
-        let unsettled = |g: f64| Weighed { settled: None, guide: Some(g) };
+        let settled = |z: f64| Weighed::counted(Some(z));
+        let unsettled = |g: f64| Weighed { counted: None, guide: Some(g) };
         let mut tried: Tried = [
             (Cause::NONE, settled(0.0)),
             (Cause::PERIMETER_POUNDING, unsettled(300.0)),
@@ -199,8 +202,8 @@ mod tests {
     #[test]
     fn classes_out_of_place_or_without_evidence_are_never_the_best() {
         let mut tried: Tried = [
-            (Cause::NONE, Weighed::settled(Some(0.0))),
-            (Cause::PERIMETER_FRICTION, Weighed::settled(Some(5.0))),
+            (Cause::NONE, Weighed::counted(Some(0.0))),
+            (Cause::PERIMETER_FRICTION, Weighed::counted(Some(5.0))),
         ]
         .into();
         let fixed = |c: Cause| !c.has(0); // no sliding ends for pounding

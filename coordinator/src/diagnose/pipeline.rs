@@ -11,7 +11,7 @@ use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
 use super::class_evidence::{EvidencePolicy, PeakResult};
-use super::class_odds::{class_odds, ln_prior, renormalise, settled_ln_posterior, ClassOdds};
+use super::class_odds::{self, class_odds, counted_ln_posterior, renormalise, ClassOdds};
 use super::class_search::{search_classes, Tried, Weighed};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
@@ -757,25 +757,22 @@ fn attach_posterior(
 }
 
 /// The unnormalised log-posterior of a candidate's class (its log-evidence
-/// plus its log-prior under `effect_prior`, [`ln_prior`]), when it has an
-/// evidence that settled. An evidence whose rounds ran out before meeting
-/// their own stop rule is no estimate (on the friction-and-pounding campaign
-/// that class's corrected rounds ran from +4501 to −1509 nats over `none`
-/// while its emulated ones rose): it is reported, never compared.
+/// plus its log-prior under `effect_prior`, [`class_odds::ln_prior`]), when it has an
+/// evidence that settled or is bounded below ([`counted_ln_posterior`]).
+/// An evidence whose rounds ran out before meeting their own stop rule is
+/// no estimate (on the friction-and-pounding campaign that class's
+/// corrected rounds ran from +4501 to −1509 nats over `none` while its
+/// emulated ones rose): it is reported, never compared.
 fn ln_posterior(r: &CandidateResult, effect_prior: f64) -> Option<f64> {
     let odds = r.odds.as_ref().and_then(|o| o.as_ref().ok())?;
-    settled_ln_posterior(odds, r.cause, effect_prior)
+    counted_ln_posterior(odds, r.cause, effect_prior)
 }
 
-/// What `r`'s class weighs in the class search: its settled log-posterior,
-/// and as a guide where none settled its Laplace approximation's
-/// ([`super::class_search`]).
+/// What `r`'s class weighs in the class search ([`class_odds::weighed`];
+/// nothing without an evidence).
 fn weighed(r: &CandidateResult, effect_prior: f64) -> Weighed {
-    let settled = ln_posterior(r, effect_prior);
-    let laplace = (r.odds.as_ref().and_then(|o| o.as_ref().ok()))
-        .map(|o| o.evidence.laplace_ln_evidence + ln_prior(r.cause, effect_prior))
-        .filter(|z| z.is_finite());
-    Weighed { settled, guide: settled.or(laplace) }
+    let odds = r.odds.as_ref().and_then(|o| o.as_ref().ok());
+    odds.map_or_else(Weighed::default, |o| class_odds::weighed(o, r.cause, effect_prior))
 }
 
 /// The candidate of highest posterior probability (each effect with prior

@@ -113,7 +113,16 @@ fn settled_words(e: &ClassEvidence) -> String {
         (Some(a), true) => format!("yes (annealed, {} stages)", a.stages),
         (Some(a), false) => match a.estimate {
             Some((_, sd)) => format!("no (annealed, error {sd:.2} nat)"),
-            None => format!("no ({} rounds; annealing reached β = {:.3})", e.rounds.len(), a.beta),
+            None => match e.counted_ln_evidence() {
+                Some(z) => format!(
+                    "no ({} rounds; annealing reached β = {:.3}): counted at ln Z ≥ {z:.1}",
+                    e.rounds.len(),
+                    a.beta
+                ),
+                None => {
+                    format!("no ({} rounds; annealing reached β = {:.3})", e.rounds.len(), a.beta)
+                }
+            },
         },
     };
     match e.restarts {
@@ -204,12 +213,17 @@ mod tests {
         assert_eq!(settled_words(&e), "yes");
         e.converged = false;
         assert_eq!(settled_words(&e), "no (0 rounds)");
-        let a = Annealed { estimate: None, stages: 8, fe_points: 600, beta: 0.0625 };
+        let a = Annealed { estimate: None, stages: 8, fe_points: 600, beta: 0.0625, lower: None };
         e.annealed = Some(a.clone());
         e.restarts = 4;
         assert_eq!(
             settled_words(&e),
             "no (0 rounds; annealing reached β = 0.062), after 4 restarts"
+        );
+        e.annealed = Some(Annealed { lower: Some((500.0, 3.0)), ..a.clone() });
+        assert_eq!(
+            settled_words(&e),
+            "no (0 rounds; annealing reached β = 0.062): counted at ln Z ≥ 494.0, after 4 restarts"
         );
         e.annealed = Some(Annealed { estimate: Some((1.0, 0.3)), stages: 2, beta: 1.0, ..a });
         e.converged = true;

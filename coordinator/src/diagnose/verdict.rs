@@ -34,8 +34,16 @@ pub struct ClassJson {
     /// Whether the evidence settled (null without one): only a settled
     /// evidence takes a share of the probability.
     pub settled: Option<bool>,
+    /// When the evidence did not settle but an annealing bounded it below:
+    /// the value it is counted at (the bound less two standard errors,
+    /// nat); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ln_evidence_at_least: Option<f64>,
     /// Posterior probability among the classes tried (null without an
-    /// evidence, or one that did not settle).
+    /// evidence, or one neither settled nor bounded). A bounded class
+    /// enters at its counted bound: against settled classes its
+    /// probability is a lower bound; against another bounded class the
+    /// two bounds do not order the classes (see docs/diagnosis.md).
     pub probability: Option<f64>,
     /// Mean validation error beyond the noise of its prediction.
     pub validation_error: f64,
@@ -55,6 +63,7 @@ impl ClassJson {
             ln_evidence: e.and_then(|e| e.ln_evidence),
             ln_evidence_sd: e.and_then(|e| e.ln_evidence_sd),
             settled: e.and_then(|e| e.converged),
+            ln_evidence_at_least: e.and_then(|e| e.ln_evidence_at_least),
             probability: e.and_then(|e| e.probability).filter(|p| p.is_finite()),
             validation_error: c.validation_error,
             selected: c.selected,
@@ -142,6 +151,10 @@ pub struct EvidenceJson {
     /// Whether its rounds met their stop rule.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub converged: Option<bool>,
+    /// The ln Z it is counted at when not settled but bounded below
+    /// ([`super::class_evidence::ClassEvidence::counted_ln_evidence`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ln_evidence_at_least: Option<f64>,
     /// The Laplace approximation at the estimate (nats), for comparison.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub laplace_ln_evidence: Option<f64>,
@@ -181,6 +194,10 @@ pub struct AnnealedJson {
     pub fe_points: usize,
     /// The temperature reached (1: the FE posterior).
     pub beta: f64,
+    /// When it stopped short of the FE posterior: ln Z bounded below from
+    /// the temperature reached, and the bound's standard error.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ln_evidence_lower: Option<[f64; 2]>,
 }
 
 /// One round as written: emulated ln Z, then the corrected ln Z, its
@@ -209,6 +226,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                 effect_prior: (o.effect_prior != 0.5).then_some(o.effect_prior),
                 k_hat: Some(e.k_hat),
                 converged: Some(e.converged),
+                ln_evidence_at_least: (!e.converged).then(|| e.counted_ln_evidence()).flatten(),
                 laplace_ln_evidence: Some(e.laplace_ln_evidence),
                 curvature_scale: (e.curvature_scale != 1.0).then_some(e.curvature_scale),
                 fe_points: e.fe_points,
@@ -219,6 +237,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                     stages: a.stages,
                     fe_points: a.fe_points,
                     beta: a.beta,
+                    ln_evidence_lower: a.lower.map(|(b, sd)| [b, sd]),
                 }),
                 rounds: e.rounds.iter().map(round_json).collect(),
                 not_computable: None,
@@ -233,6 +252,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
             effect_prior: None,
             k_hat: None,
             converged: None,
+            ln_evidence_at_least: None,
             laplace_ln_evidence: None,
             curvature_scale: None,
             fe_points: 0,

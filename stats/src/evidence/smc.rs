@@ -99,9 +99,57 @@ pub enum SmcError<E: std::error::Error + 'static> {
     /// Every prior draw has zero likelihood.
     #[error("all {particles} prior draws have zero likelihood: the evidence is below what the population resolves")]
     NoSupport { particles: usize },
-    /// The temperature did not reach 1 within the stage limit.
+    /// The temperature did not reach 1 within the stage limit; what the
+    /// run reached still bounds the evidence from below ([`LowerBound`]).
     #[error("temperature {beta:.3e} after {stages} stages: the likelihood is too sharp for the population")]
-    Stages { stages: usize, beta: f64 },
+    Stages {
+        /// Stages run.
+        stages: usize,
+        /// Temperature reached.
+        beta: f64,
+        /// The lower bound on ln Z from there (None: a particle's
+        /// log-likelihood was not finite).
+        lower: Option<LowerBound>,
+    },
+}
+
+/// A lower bound on ln Z from a run that stopped at temperature β < 1.
+/// ln Z(β) = ln ∫ base · L^β is convex in β (it is the cumulant generating
+/// function of ln L under the base), so it lies above its tangent at β:
+/// ln Z(1) ≥ ln Z(β) + (1 − β) E_β[ln L], the slope being the mean of ln L
+/// under the tempered posterior at β. Both estimates err on the low side
+/// where they err: ln Ẑ(β) is biased low (Jensen), and a population that
+/// lags behind β (too few moves) sits where the slope is smaller (it grows
+/// with β, ln Z being convex).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LowerBound {
+    /// ln Ẑ(β) + (1 − β) × the population's mean ln L.
+    pub ln_evidence: f64,
+    /// Its standard error: ln Ẑ(β)'s (genealogy estimator) and the mean's
+    /// (the sample's spread over the square root of its distinct ancestors,
+    /// copies of one ancestor being correlated) combined.
+    pub sd: f64,
+    /// ln Ẑ(β), the evidence of the tempered posterior reached.
+    pub ln_evidence_at_beta: f64,
+}
+
+impl LowerBound {
+    /// The bound from a population at `beta` with log-likelihoods `ln_l`
+    /// and first-population ancestors `eve`, `ln_z` = ln Ẑ(β) with relative
+    /// variance `rel_var`; None when a log-likelihood is not finite.
+    fn at(beta: f64, ln_z: f64, rel_var: f64, ln_l: &[f64], eve: &[usize]) -> Option<Self> {
+        if ln_l.is_empty() || ln_l.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let n = ln_l.len() as f64;
+        let mean = ln_l.iter().sum::<f64>() / n;
+        let var = ln_l.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        let distinct = count_distinct(eve, &vec![1.0; eve.len()]).max(1) as f64;
+        let gap = 1.0 - beta;
+        let sd_z = (1.0 + rel_var.max(0.0)).ln().sqrt();
+        let sd = (sd_z.powi(2) + gap * gap * var / distinct).sqrt();
+        Some(LowerBound { ln_evidence: ln_z + gap * mean, sd, ln_evidence_at_beta: ln_z })
+    }
 }
 
 /// Tempered sequential Monte Carlo with the given options.
@@ -192,11 +240,14 @@ impl TemperedSmc {
         let mut evaluations = n;
         let mut eve: Vec<usize> = (0..n).collect();
         let (mut beta, mut ln_z, mut rel_var, mut distinct) = (0.0, ln_z0, f64::INFINITY, n);
+        // ln Ẑ(β)'s relative variance at the last weighting (for a bound).
+        let mut stage_rel_var = f64::INFINITY;
         let mut scale = 2.38 / (d.max(1) as f64).sqrt();
         let mut stages = Vec::new();
         while beta < 1.0 {
             if stages.len() >= o.max_stages {
-                return Err(SmcError::Stages { stages: stages.len(), beta });
+                let lower = LowerBound::at(beta, ln_z, stage_rel_var, &ln_l, &eve);
+                return Err(SmcError::Stages { stages: stages.len(), beta, lower });
             }
             let next = next_temperature(&ln_l, beta, o.target_cov);
             let lw: Vec<f64> = ln_l.iter().map(|l| (next - beta) * l).collect();
@@ -206,8 +257,9 @@ impl TemperedSmc {
             let ln_increment = m + (sum_w / n as f64).ln();
             ln_z += ln_increment;
             let ess_fraction = sum_w * sum_w / w.iter().map(|v| v * v).sum::<f64>() / n as f64;
+            stage_rel_var = relative_variance(&eve, &w, stages.len());
             if next >= 1.0 {
-                rel_var = relative_variance(&eve, &w, stages.len());
+                rel_var = stage_rel_var;
                 distinct = count_distinct(&eve, &w);
             }
             let factor = proposal_factor(&weighted_covariance(&x, &w));
