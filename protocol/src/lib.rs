@@ -40,4 +40,5 @@ pub use transport::{Transport, TransportError, TransportEvent, WorkerId};
 /// Version of the message layout; peers with another version are refused.
 /// 2: iceoryx2 welcomes and worker messages carry node ids.
 /// 3: the Welcome carries the sweep's key; tasks and worker messages are sealed.
-pub const PROTOCOL_VERSION: u16 = 3;
+/// 4: the seal's MAC is keyed BLAKE3 (`ceilfarm-mac/2`), no longer HMAC-SHA256.
+pub const PROTOCOL_VERSION: u16 = 4;
