@@ -179,29 +179,16 @@ mod tests {
 
     fn with_laplace(z: f64, converged: bool, lower: Option<(f64, f64)>, laplace: f64) -> ClassOdds {
         use super::super::class_evidence::Annealed;
-        use super::super::likelihood::LikelihoodKind;
-        let annealed = lower.map(|lower| Annealed {
+        let mut o = super::super::testkit::class_odds(z, converged);
+        o.evidence.laplace_ln_evidence = laplace;
+        o.evidence.annealed = lower.map(|lower| Annealed {
             estimate: None,
             stages: 8,
             fe_points: 640,
             beta: 0.9,
             lower: Some(lower),
         });
-        let evidence = ClassEvidence {
-            ln_evidence: z,
-            ln_evidence_sd: 0.2,
-            k_hat: 0.3,
-            converged,
-            laplace_ln_evidence: laplace,
-            curvature_scale: 1.0,
-            rounds: vec![],
-            fe_points: 0,
-            likelihood: LikelihoodKind::Band,
-            restarts: 0,
-            higher_ground: None,
-            annealed,
-        };
-        ClassOdds { evidence, probability: f64::NAN, effect_prior: 0.5 }
+        o
     }
 
     #[test]

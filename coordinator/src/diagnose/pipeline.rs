@@ -1390,26 +1390,8 @@ mod tests {
 
     #[test]
     fn the_most_probable_class_has_the_highest_evidence_among_those_that_have_one() {
-        use crate::diagnose::class_evidence::ClassEvidence;
-        use crate::diagnose::class_odds::ClassOdds;
         let with = |cause, ln_z: Option<f64>| {
-            let odds = ln_z.map(|z| {
-                let evidence = ClassEvidence {
-                    ln_evidence: z,
-                    ln_evidence_sd: 0.1,
-                    k_hat: 0.2,
-                    converged: true,
-                    laplace_ln_evidence: z,
-                    curvature_scale: 1.0,
-                    rounds: vec![],
-                    fe_points: 0,
-                    likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
-                    restarts: 0,
-                    higher_ground: None,
-                    annealed: None,
-                };
-                Ok(ClassOdds { evidence, probability: f64::NAN, effect_prior: 0.5 })
-            });
+            let odds = ln_z.map(|z| Ok(crate::diagnose::testkit::class_odds(z, true)));
             CandidateResult { odds, ..CandidateResult::unassessed(cause, None) }
         };
         let mut r = vec![

@@ -113,16 +113,14 @@ fn settled_words(e: &ClassEvidence) -> String {
         (Some(a), true) => format!("yes (annealed, {} stages)", a.stages),
         (Some(a), false) => match a.estimate {
             Some((_, sd)) => format!("no (annealed, error {sd:.2} nat)"),
-            None => match e.counted_ln_evidence() {
-                Some(z) => format!(
-                    "no ({} rounds; annealing reached β = {:.3}): counted at ln Z ≥ {z:.1}",
-                    e.rounds.len(),
-                    a.beta
-                ),
-                None => {
-                    format!("no ({} rounds; annealing reached β = {:.3})", e.rounds.len(), a.beta)
+            None => {
+                let reached =
+                    format!("no ({} rounds; annealing reached β = {:.3})", e.rounds.len(), a.beta);
+                match e.counted_ln_evidence() {
+                    Some(z) => format!("{reached}: counted at ln Z ≥ {z:.1}"),
+                    None => reached,
                 }
-            },
+            }
         },
     };
     match e.restarts {
@@ -158,25 +156,13 @@ fn row(cause: &str, o: Option<&Result<ClassOdds, String>>, best: f64) -> Vec<Str
 mod tests {
     use super::*;
     use crate::diagnose::cause::Cause;
-    use crate::diagnose::class_evidence::ClassEvidence;
     use crate::diagnose::pipeline::CandidateResult;
 
     fn odds(ln_z: f64, p: f64) -> ClassOdds {
-        let evidence = ClassEvidence {
-            ln_evidence: ln_z,
-            ln_evidence_sd: 0.1,
-            k_hat: 0.3,
-            converged: true,
-            laplace_ln_evidence: ln_z - 0.2,
-            curvature_scale: 1.0,
-            rounds: vec![],
-            fe_points: 80,
-            likelihood: crate::diagnose::likelihood::LikelihoodKind::Band,
-            restarts: 0,
-            higher_ground: None,
-            annealed: None,
-        };
-        ClassOdds { evidence, probability: p, effect_prior: 0.5 }
+        let mut o = crate::diagnose::testkit::class_odds(ln_z, true);
+        o.evidence.laplace_ln_evidence = ln_z - 0.2;
+        o.evidence.fe_points = 80;
+        ClassOdds { probability: p, ..o }
     }
 
     #[test]

@@ -256,3 +256,24 @@ pub fn mdl_of(total: f64, k: usize) -> super::mdl::Mdl {
         n_eff: 1e4,
     }
 }
+
+/// The odds of a class whose evidence is `ln_z` (± 0.1 nat, k̂ 0.3, its
+/// Laplace value the same), `converged` or not, no rounds run, under
+/// equal prior odds; probability not yet set (NaN).
+pub fn class_odds(ln_z: f64, converged: bool) -> super::class_odds::ClassOdds {
+    let evidence = super::class_evidence::ClassEvidence {
+        ln_evidence: ln_z,
+        ln_evidence_sd: 0.1,
+        k_hat: 0.3,
+        converged,
+        laplace_ln_evidence: ln_z,
+        curvature_scale: 1.0,
+        rounds: vec![],
+        fe_points: 0,
+        likelihood: super::likelihood::LikelihoodKind::Band,
+        restarts: 0,
+        higher_ground: None,
+        annealed: None,
+    };
+    super::class_odds::ClassOdds { evidence, probability: f64::NAN, effect_prior: 0.5 }
+}

@@ -144,10 +144,9 @@ impl LowerBound {
         let n = ln_l.len() as f64;
         let mean = ln_l.iter().sum::<f64>() / n;
         let var = ln_l.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-        let distinct = count_distinct(eve, &vec![1.0; eve.len()]).max(1) as f64;
+        let distinct = count_distinct(eve.iter().copied()).max(1) as f64;
         let gap = 1.0 - beta;
-        let sd_z = (1.0 + rel_var.max(0.0)).ln().sqrt();
-        let sd = (sd_z.powi(2) + gap * gap * var / distinct).sqrt();
+        let sd = (ln_sd(rel_var).powi(2) + gap * gap * var / distinct).sqrt();
         Some(LowerBound { ln_evidence: ln_z + gap * mean, sd, ln_evidence_at_beta: ln_z })
     }
 }
@@ -239,14 +238,13 @@ impl TemperedSmc {
         let mut ln_p: Vec<f64> = x.iter().map(|xi| ln_base(xi)).collect();
         let mut evaluations = n;
         let mut eve: Vec<usize> = (0..n).collect();
+        // rel_var: ln Ẑ(β)'s relative variance at the last weighting.
         let (mut beta, mut ln_z, mut rel_var, mut distinct) = (0.0, ln_z0, f64::INFINITY, n);
-        // ln Ẑ(β)'s relative variance at the last weighting (for a bound).
-        let mut stage_rel_var = f64::INFINITY;
         let mut scale = 2.38 / (d.max(1) as f64).sqrt();
         let mut stages = Vec::new();
         while beta < 1.0 {
             if stages.len() >= o.max_stages {
-                let lower = LowerBound::at(beta, ln_z, stage_rel_var, &ln_l, &eve);
+                let lower = LowerBound::at(beta, ln_z, rel_var, &ln_l, &eve);
                 return Err(SmcError::Stages { stages: stages.len(), beta, lower });
             }
             let next = next_temperature(&ln_l, beta, o.target_cov);
@@ -257,10 +255,10 @@ impl TemperedSmc {
             let ln_increment = m + (sum_w / n as f64).ln();
             ln_z += ln_increment;
             let ess_fraction = sum_w * sum_w / w.iter().map(|v| v * v).sum::<f64>() / n as f64;
-            stage_rel_var = relative_variance(&eve, &w, stages.len());
+            rel_var = relative_variance(&eve, &w, stages.len());
             if next >= 1.0 {
-                rel_var = stage_rel_var;
-                distinct = count_distinct(&eve, &w);
+                distinct =
+                    count_distinct(eve.iter().zip(&w).filter(|(_, w)| **w > 0.0).map(|e| *e.0));
             }
             let factor = proposal_factor(&weighted_covariance(&x, &w));
             let anc = multinomial(&w, rng);
@@ -292,7 +290,7 @@ impl TemperedSmc {
         }
         Ok(SmcRun {
             ln_evidence: ln_z,
-            ln_evidence_sd: (1.0 + rel_var.max(0.0)).ln().sqrt(),
+            ln_evidence_sd: ln_sd(rel_var),
             relative_variance: rel_var,
             distinct_ancestors: distinct,
             stages,
@@ -356,12 +354,18 @@ fn evaluate<E: std::error::Error + 'static>(
     Ok(v)
 }
 
-/// Distinct ancestors among particles of positive weight.
-fn count_distinct(eve: &[usize], w: &[f64]) -> usize {
-    let mut e: Vec<usize> = eve.iter().zip(w).filter(|(_, w)| **w > 0.0).map(|(e, _)| *e).collect();
+/// Distinct ancestors among `eve`.
+fn count_distinct(eve: impl Iterator<Item = usize>) -> usize {
+    let mut e: Vec<usize> = eve.collect();
     e.sort_unstable();
     e.dedup();
     e.len()
+}
+
+/// The standard error of ln Ẑ from Ẑ's relative variance,
+/// sqrt(ln(1 + relative variance)).
+fn ln_sd(rel_var: f64) -> f64 {
+    (1.0 + rel_var.max(0.0)).ln().sqrt()
 }
 
 /// Refuses options no run can use.
