@@ -136,6 +136,15 @@ pub struct EvidencePolicy {
     /// ([`Annealed`]; 0: none): 640, 8 stages of 40 particles moved twice,
     /// about the eight rounds' own 320 twice over.
     pub anneal_runs: usize,
+    /// FE runs the annealing of a class the evidence does not yet order
+    /// against the most probable one may grow to (the pipeline's decide
+    /// step doubles [`anneal_runs`](Self::anneal_runs) up to it): 2560,
+    /// two doublings. A choice, not measured: an annealing of 8 stages
+    /// stopped at β 0.008 to 0.9 on the project's campaigns, and each
+    /// doubling doubles its stages; the cost of deciding two classes is
+    /// then at most 2 × 1920 FE runs, a campaign's own 5 300 being the
+    /// scale.
+    pub decide_runs: usize,
     /// Metropolis steps per particle and annealing stage: 2, so that a
     /// particle moves about a proposal's width from its resampled copies.
     pub anneal_steps: usize,
@@ -170,6 +179,7 @@ impl Default for EvidencePolicy {
             restarts: 4,
             resume_steps: 3,
             anneal_runs: 640,
+            decide_runs: 2560,
             anneal_steps: 2,
             anneal_sd_nats: 1.0,
             scale_tries: 4,
@@ -339,8 +349,13 @@ pub struct Annealed {
     pub beta: f64,
     /// When the FE runs ran out first: ln Z bounded below from the
     /// temperature reached and its standard error (nat; ln Z̃'s and the
-    /// bound's combined; [`stats::evidence::LowerBound`]); None otherwise.
+    /// bound's combined; [`stats::evidence::Bounds`]); None otherwise.
     pub lower: Option<(f64, f64)>,
+    /// When the FE runs ran out first: ln Z bounded above from the
+    /// temperature reached by the highest ln L/L̃ its particles held, and
+    /// its standard error (nat; [`stats::evidence::Bounds`]); None
+    /// otherwise.
+    pub upper: Option<(f64, f64)>,
 }
 
 /// Standard errors below a lower bound's estimate at which the bound is
@@ -362,6 +377,18 @@ impl ClassEvidence {
         }
         let (bound, sd) = self.annealed.as_ref()?.lower?;
         Some(bound - BOUND_SDS * sd).filter(|v| v.is_finite())
+    }
+
+    /// The most ln Z may be, for ordering classes: the estimate when it
+    /// settled; else, when an annealing ran out of FE runs, its upper
+    /// bound plus [`BOUND_SDS`] standard errors; None (no limit known)
+    /// otherwise.
+    pub fn ln_evidence_at_most(&self) -> Option<f64> {
+        if self.converged {
+            return Some(self.ln_evidence);
+        }
+        let (bound, sd) = self.annealed.as_ref()?.upper?;
+        Some(bound + BOUND_SDS * sd).filter(|v| v.is_finite())
     }
 }
 
@@ -737,14 +764,14 @@ impl Rounds<'_> {
         };
         let smc = TemperedSmc::new(options);
         let with_z = |sd: f64| (last.ln_z.1.powi(2) + sd.powi(2)).sqrt();
-        let (estimate, stages, beta, lower) = match smc.run_from(start, &ln_base, &mut ratio) {
+        let (estimate, stages, beta, bounds) = match smc.run_from(start, &ln_base, &mut ratio) {
             Ok(run) => {
                 let sd = with_z(run.ln_evidence_sd);
                 (Some((run.ln_evidence, sd)), run.stages.len(), 1.0, None)
             }
-            Err(SmcError::Stages { beta, stages, lower }) => {
-                tracing::debug!(beta, stages, ?lower, "annealing ran out of FE runs");
-                (None, stages, beta, lower.map(|b| (b.ln_evidence, with_z(b.sd))))
+            Err(SmcError::Stages { beta, stages, bounds }) => {
+                tracing::debug!(beta, stages, ?bounds, "annealing ran out of FE runs");
+                (None, stages, beta, bounds)
             }
             Err(SmcError::Likelihood(AnnealError::Executor(e))) => return Err(e.into()),
             Err(e) => {
@@ -752,7 +779,9 @@ impl Rounds<'_> {
                 return Err(ClassEvidenceError::Smc { round: last.round + 1, message });
             }
         };
-        Ok(Some(Annealed { estimate, stages, fe_points: spent, beta, lower }))
+        let lower = bounds.map(|b| (b.ln_evidence, with_z(b.sd)));
+        let upper = bounds.map(|b| (b.ln_evidence_upper, with_z(b.upper_sd)));
+        Ok(Some(Annealed { estimate, stages, fe_points: spent, beta, lower, upper }))
     }
 }
 

@@ -244,6 +244,25 @@ fn annealed_alone(
     assert_eq!(got.ln_evidence, ln_z);
     let diff = ln_z - ln_z_quad;
     assert!(diff.abs() <= 1.0, "annealed: {diff:+.3} nat");
+    // The same annealing cut one stage short (its stages are the same up
+    // to there) bounds the quadrature's ln Z on both sides.
+    assert!(a.stages >= 2, "one stage reached the FE posterior: nothing to cut ({a:?})");
+    let per_stage = never.checks * never.anneal_steps;
+    let cut = EvidencePolicy { anneal_runs: (a.stages - 1) * per_stage, ..never.clone() };
+    let got = class_evidence(&off, &(h / 30.0), data, w, exec, &cut).unwrap();
+    let a = got.annealed.clone().expect("the annealing runs");
+    let (Some((lower, lower_sd)), Some((upper, upper_sd))) = (a.lower, a.upper) else {
+        panic!("cut short, the annealing bounds ln Z: {a:?}");
+    };
+    eprintln!(
+        "{:?}, cut at β {:.3}: {lower:.3} ± {lower_sd:.3} ≤ {ln_z_quad:.3} ≤ {upper:.3} ± {upper_sd:.3}",
+        policy.likelihood, a.beta
+    );
+    assert!(!got.converged && a.beta < 1.0, "{a:?}");
+    assert!(lower - 2.0 * lower_sd <= ln_z_quad, "lower bound above the quadrature: {a:?}");
+    assert!(upper + 2.0 * upper_sd >= ln_z_quad, "upper bound below the quadrature: {a:?}");
+    assert_eq!(got.counted_ln_evidence(), Some(lower - 2.0 * lower_sd));
+    assert_eq!(got.ln_evidence_at_most(), Some(upper + 2.0 * upper_sd));
 }
 
 /// A calibration that stopped short of the mode (its one point the

@@ -107,6 +107,53 @@ pub fn counted_ln_posterior(o: &ClassOdds, cause: Cause, effect_prior: f64) -> O
     (o.evidence.counted_ln_evidence()).map(|z| z + ln_prior(cause, effect_prior))
 }
 
+/// What the evidence knows of a class's log-posterior (ln Z plus
+/// [`ln_prior`]): at least `counted` ([`counted_ln_posterior`]), at most
+/// `at_most` ([`ClassEvidence::ln_evidence_at_most`](super::class_evidence::ClassEvidence::ln_evidence_at_most);
+/// None: no limit known). A settled class has both at its estimate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Range {
+    /// What it is counted at.
+    pub counted: f64,
+    /// The most it may be (None: unbounded).
+    pub at_most: Option<f64>,
+}
+
+/// The range of class `cause`'s log-posterior under `effect_prior` (None:
+/// not counted).
+pub fn range(o: &ClassOdds, cause: Cause, effect_prior: f64) -> Option<Range> {
+    let counted = counted_ln_posterior(o, cause, effect_prior)?;
+    let prior = ln_prior(cause, effect_prior);
+    Some(Range { counted, at_most: o.evidence.ln_evidence_at_most().map(|z| z + prior) })
+}
+
+/// What the evidence decides among classes: the one of highest counted
+/// log-posterior and its rivals, the others that may lie above it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Order {
+    /// The class of highest counted log-posterior (an index).
+    pub top: usize,
+    /// Every other class whose most (unbounded: +∞) lies above the top's
+    /// counted value; empty when the evidence orders the top first.
+    pub rivals: Vec<usize>,
+}
+
+/// The order of classes with `ranges` (None: not counted; None when no
+/// class is). A settled class is never a rival (its most is its counted
+/// value, at most the top's); a class bounded by an annealing is one when
+/// its upper bound lies above the top's counted value: the evidence then
+/// does not say which is higher, and no class is named by it.
+pub fn order(ranges: &[Option<Range>]) -> Option<Order> {
+    let top = (0..ranges.len())
+        .filter_map(|k| ranges[k].map(|r| (k, r.counted)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let above = |r: &Range| r.at_most.is_none_or(|m| m > top.1);
+    let rivals = (0..ranges.len())
+        .filter(|k| *k != top.0 && ranges[*k].as_ref().is_some_and(above))
+        .collect();
+    Some(Order { top: top.0, rivals })
+}
+
 /// What class `cause` weighs in the class search ([`Weighed`]): its
 /// counted log-posterior ([`counted_ln_posterior`]) and its guide. The
 /// guide is the settled value when the evidence settled; else the Laplace
@@ -187,8 +234,55 @@ mod tests {
             fe_points: 640,
             beta: 0.9,
             lower: Some(lower),
+            upper: None,
         });
         o
+    }
+
+    /// A class bounded to [lower, upper] (each ± 0, so counted as given).
+    fn bounded(lower: f64, upper: Option<f64>) -> ClassOdds {
+        let mut o = evidence(lower + 1000.0, false, Some((lower, 0.0)));
+        if let Some(a) = o.evidence.annealed.as_mut() {
+            a.upper = upper.map(|u| (u, 0.0));
+        }
+        o
+    }
+
+    #[test]
+    fn bounded_classes_are_ordered_only_where_their_bounds_do_not_overlap() {
+        let (none, f, pf) =
+            (Cause::NONE, Cause::PERIMETER_FRICTION, Cause::PERIMETER_FRICTION.with(0));
+        let prior = ln_prior(none, 0.5);
+        let settled = evidence(100.0, true, None);
+        let ranges = |odds: &[(Cause, &ClassOdds)]| -> Vec<Option<Range>> {
+            odds.iter().map(|(c, o)| range(o, *c, 0.5)).collect()
+        };
+        // A settled class has a point range.
+        let r = range(&settled, none, 0.5).unwrap();
+        assert_eq!(r, Range { counted: 100.0 + prior, at_most: Some(100.0 + prior) });
+        // Settled 100 against a class bounded to [60, 90]: decided.
+        let low = bounded(60.0, Some(90.0));
+        let o = order(&ranges(&[(none, &settled), (f, &low)])).unwrap();
+        assert_eq!(o, Order { top: 0, rivals: vec![] });
+        // ... to [60, 130]: it may lie above, undecided.
+        let may = bounded(60.0, Some(130.0));
+        let o = order(&ranges(&[(none, &settled), (f, &may)])).unwrap();
+        assert_eq!(o, Order { top: 0, rivals: vec![1] });
+        // Two bounded classes: the higher bound leads, the other may lie
+        // above it, whichever bound is higher; none with no upper bound.
+        let (a, b) = (bounded(3099.0, Some(5000.0)), bounded(4384.0, Some(6000.0)));
+        let o = order(&ranges(&[(none, &settled), (f, &a), (pf, &b)])).unwrap();
+        assert_eq!(o, Order { top: 2, rivals: vec![1] });
+        let o = order(&ranges(&[(f, &bounded(3099.0, None)), (pf, &b)])).unwrap();
+        assert_eq!(o, Order { top: 1, rivals: vec![0] });
+        // Bounded above the settled one, wholly: decided for it.
+        let o = order(&ranges(&[(none, &settled), (f, &bounded(200.0, Some(300.0)))])).unwrap();
+        assert_eq!(o, Order { top: 1, rivals: vec![] });
+        // A class neither settled nor bounded is not counted, nor a rival.
+        let loose = evidence(900.0, false, None);
+        let o = order(&ranges(&[(none, &settled), (f, &loose)])).unwrap();
+        assert_eq!(o, Order { top: 0, rivals: vec![] });
+        assert_eq!(order(&ranges(&[(f, &loose)])), None);
     }
 
     #[test]

@@ -11,7 +11,7 @@ use super::campaign_size::campaign_work;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
 use super::class_evidence::{EvidencePolicy, PeakResult};
-use super::class_odds::{self, class_odds, counted_ln_posterior, renormalise, ClassOdds};
+use super::class_odds::{self, class_odds, renormalise, ClassOdds};
 use super::class_search::{search_classes, Tried, Weighed};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
 use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
@@ -239,6 +239,10 @@ pub struct Diagnosis {
     /// The linear stage's fit of the specimen's linear form, which every
     /// variant held (None: the stage did not run).
     pub linear: Option<LinearStage>,
+    /// The classes the evidence does not order, the one named first
+    /// ([`class_odds::order`]); empty when it names one, or the MDL rules
+    /// do. The verdict is then `unexplained`.
+    pub undecided: Vec<Cause>,
     /// What the data show that no model explains ([`unexplained`]); the
     /// verdict is then `unexplained`.
     pub unexplained: Option<Unexplained>,
@@ -393,7 +397,7 @@ fn diagnose_stages(
         }
         VerdictRule::Mdl => None,
     };
-    let pick = by_evidence.unwrap_or(pick);
+    let pick = by_evidence.as_ref().map_or(pick, |o| o.top);
     results[pick].selected = true;
     progress("posterior (BBVI, checked by FE runs)", 0, 1);
     let check = (opts.budget.seed, check_rounds(campaign_work(b, &cal_runs)));
@@ -404,6 +408,11 @@ fn diagnose_stages(
     d.rule = if by_evidence.is_some() { VerdictRule::Evidence } else { VerdictRule::Mdl };
     d.channels = v.channels;
     d.linear = linear;
+    d.undecided = (by_evidence.into_iter())
+        .filter(|o| !o.rivals.is_empty())
+        .flat_map(|o| std::iter::once(o.top).chain(o.rivals))
+        .map(|k| d.candidates[k].cause)
+        .collect();
     d.unexplained = unexplained(&d);
     Ok(d)
 }
@@ -734,6 +743,7 @@ fn conclude(
         gain: if pick == 0 { 0.0 } else { 1.0 - ext / base },
         channels: None,
         linear: None,
+        undecided: Vec::new(),
         unexplained: None,
         rule: VerdictRule::Mdl,
         stage_loads: Vec::new(),
@@ -756,18 +766,6 @@ fn attach_posterior(
     Ok(())
 }
 
-/// The unnormalised log-posterior of a candidate's class (its log-evidence
-/// plus its log-prior under `effect_prior`, [`class_odds::ln_prior`]), when it has an
-/// evidence that settled or is bounded below ([`counted_ln_posterior`]).
-/// An evidence whose rounds ran out before meeting their own stop rule is
-/// no estimate (on the friction-and-pounding campaign that class's
-/// corrected rounds ran from +4501 to −1509 nats over `none` while its
-/// emulated ones rose): it is reported, never compared.
-fn ln_posterior(r: &CandidateResult, effect_prior: f64) -> Option<f64> {
-    let odds = r.odds.as_ref().and_then(|o| o.as_ref().ok())?;
-    counted_ln_posterior(odds, r.cause, effect_prior)
-}
-
 /// What `r`'s class weighs in the class search ([`class_odds::weighed`];
 /// nothing without an evidence).
 fn weighed(r: &CandidateResult, effect_prior: f64) -> Weighed {
@@ -776,13 +774,15 @@ fn weighed(r: &CandidateResult, effect_prior: f64) -> Weighed {
 }
 
 /// The candidate of highest posterior probability (each effect with prior
-/// probability `effect_prior`) among those that have an evidence (None: no
-/// candidate has).
-fn most_probable(results: &[CandidateResult], effect_prior: f64) -> Option<usize> {
-    (0..results.len())
-        .filter_map(|k| ln_posterior(&results[k], effect_prior).map(|z| (k, z)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(k, _)| k)
+/// probability `effect_prior`) among those that have an evidence, and its
+/// rivals: the candidates bounded by an annealing that may lie above it
+/// ([`class_odds::order`]; None: no candidate has an evidence).
+fn most_probable(results: &[CandidateResult], effect_prior: f64) -> Option<class_odds::Order> {
+    let ranges: Vec<Option<class_odds::Range>> = (results.iter())
+        .map(|r| r.odds.as_ref().and_then(|o| o.as_ref().ok()).map(|o| (r.cause, o)))
+        .map(|o| o.and_then(|(c, o)| class_odds::range(o, c, effect_prior)))
+        .collect();
+    class_odds::order(&ranges)
 }
 
 /// The extension a diagnosis names, with its linear part.
@@ -854,6 +854,9 @@ impl After<'_> {
         let before: Vec<Option<Vec<f64>>> = v.cals.iter().map(best_u).collect();
         let mut search = self.peak_search(policy, w);
         let mut copies = (!evidence_rule).then(|| v.cals.clone());
+        // Each class's calibration as its evidence started from: deciding
+        // replays that evidence with a longer annealing.
+        let mut starts = if evidence_rule { v.cals.clone() } else { Vec::new() };
         let cals = copies.as_mut().unwrap_or(&mut v.cals);
         let odds = class_odds(cals, data, w, exec, (policy, &mut search), &mut report)?;
         let searched: Vec<usize> =
@@ -868,7 +871,70 @@ impl After<'_> {
             results[k].odds = Some(o);
         }
         if evidence_rule && self.opts.combine {
-            self.search_combined((policy, w), v, results, exec, progress)?;
+            self.search_combined((policy, w), v, (&mut *results, &mut starts), exec, progress)?;
+        }
+        if evidence_rule {
+            self.decide((policy, w), &starts, results, exec, progress)?;
+        }
+        Ok(())
+    }
+
+    /// Anneals further the classes the evidence does not order yet (the
+    /// most probable and its rivals, [`most_probable`]) that have not
+    /// settled: each one's evidence replayed from `starts` (its calibration
+    /// as its evidence began, so the replay repeats its FE runs, which an
+    /// evaluation store answers without running them) with the annealing's
+    /// FE runs doubled, until
+    /// the evidence orders them or [`EvidencePolicy::decide_runs`] is
+    /// reached. FE runs go where the verdict is in doubt, not to a class
+    /// a rule picked.
+    fn decide(
+        &self,
+        (policy, w): (&EvidencePolicy, ChannelWeights<'_>),
+        starts: &[Calibration],
+        results: &mut [CandidateResult],
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+    ) -> Result<(), DiagnoseError> {
+        let prior = policy.effect_prior;
+        let mut runs = policy.anneal_runs;
+        while runs > 0 && runs < policy.decide_runs {
+            let Some(order) = most_probable(results, prior) else { break };
+            if order.rivals.is_empty() {
+                break;
+            }
+            runs = (2 * runs).min(policy.decide_runs);
+            let longer = EvidencePolicy { anneal_runs: runs, ..policy.clone() };
+            let mut search = self.peak_search(&longer, w);
+            for k in std::iter::once(order.top).chain(order.rivals) {
+                let old = results[k].odds.as_ref().and_then(|o| o.as_ref().ok());
+                let Some(old_points) =
+                    old.filter(|o| !o.evidence.converged).map(|o| o.evidence.fe_points)
+                else {
+                    continue;
+                };
+                let mut cal = starts[k].clone();
+                let stage = format!("deciding: annealing {} to {runs} FE runs", cal.cause.as_str());
+                let odds = class_odds(
+                    std::slice::from_mut(&mut cal),
+                    (self.b, self.runs.0),
+                    w,
+                    exec,
+                    (&longer, &mut search),
+                    &mut |d, n| progress(&stage, d, n),
+                )?;
+                let again = odds.into_iter().next();
+                let new_points = again
+                    .as_ref()
+                    .and_then(|o| o.as_ref().ok())
+                    .map_or(0, |o| o.evidence.fe_points);
+                results[k].fe_points = results[k].fe_points + new_points - old_points;
+                results[k].odds = again;
+            }
+            let classes = results
+                .iter_mut()
+                .map(|r| (r.cause, r.odds.as_mut().and_then(|o| o.as_mut().ok())));
+            renormalise(classes, prior);
         }
         Ok(())
     }
@@ -923,7 +989,7 @@ impl After<'_> {
         &self,
         (policy, w): (&EvidencePolicy, ChannelWeights<'_>),
         v: &mut Variants,
-        results: &mut Vec<CandidateResult>,
+        (results, starts): (&mut Vec<CandidateResult>, &mut Vec<Calibration>),
         exec: &mut dyn FeExecutor,
         progress: &mut dyn FnMut(&str, usize, usize),
     ) -> Result<(), DiagnoseError> {
@@ -939,6 +1005,7 @@ impl After<'_> {
         let mut try_class = |c: Cause| -> Result<Weighed, DiagnoseError> {
             let data = (b, cal_runs);
             let mut cal = v.calibrate_class(c, data, n_eff0, &self.opts.budget, exec, progress)?;
+            starts.push(cal.clone());
             let stage = format!("class evidence of {}", c.as_str());
             let odds = class_odds(
                 std::slice::from_mut(&mut cal),
@@ -1399,22 +1466,34 @@ mod tests {
             with(Cause::PERIMETER_POUNDING, Some(-3.0)),
             with(Cause::PERIMETER_FRICTION, None),
         ];
-        assert_eq!(most_probable(&r, 0.5), Some(1));
+        let top = |r: &[CandidateResult], p| most_probable(r, p).map(|o| o.top);
+        assert_eq!(top(&r, 0.5), Some(1));
         // Pounding leads by 7 nats: a prior of 1e-3 per effect (ln 999 ≈ 6.9
         // against it) leaves it ahead, 1e-4 (ln 9999 ≈ 9.2) does not.
-        assert_eq!(most_probable(&r, 1e-3), Some(1));
-        assert_eq!(most_probable(&r, 1e-4), Some(0));
+        assert_eq!(top(&r, 1e-3), Some(1));
+        assert_eq!(top(&r, 1e-4), Some(0));
+        assert!(most_probable(&r, 0.5).is_some_and(|o| o.rivals.is_empty()));
         if let Some(Ok(o)) = &mut r[1].odds {
             o.evidence.converged = false;
         }
-        assert_eq!(
-            most_probable(&r, 0.5),
-            Some(0),
-            "an evidence that did not settle does not count"
-        );
+        assert_eq!(top(&r, 0.5), Some(0), "an evidence that did not settle does not count");
+        // Bounded by an annealing to [−20, −5] it is counted, and may lie
+        // above `none`: a rival, so the evidence names neither.
+        if let Some(Ok(o)) = &mut r[1].odds {
+            o.evidence.annealed = Some(crate::diagnose::class_evidence::Annealed {
+                estimate: None,
+                stages: 8,
+                fe_points: 640,
+                beta: 0.1,
+                lower: Some((-20.0, 0.0)),
+                upper: Some((-5.0, 0.0)),
+            });
+        }
+        let o = most_probable(&r, 0.5).unwrap();
+        assert_eq!((o.top, o.rivals), (0, vec![1]));
         r[1].odds = Some(Err("every FE check failed".into()));
-        assert_eq!(most_probable(&r, 0.5), Some(0), "a failed evidence does not count");
+        assert_eq!(top(&r, 0.5), Some(0), "a failed evidence does not count");
         r[0].odds = None;
-        assert_eq!(most_probable(&r, 0.5), None);
+        assert_eq!(top(&r, 0.5), None);
     }
 }

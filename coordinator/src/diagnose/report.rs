@@ -125,9 +125,10 @@ fn unexplained_block(u: &Unexplained) -> Block {
     Block::Note {
         kind: NoteKind::Warning,
         text: format!(
-            "Unexplained: the data show something no model here explains. The model of lowest \
-             MDL is reported below, but a model explains a channel only when it misses it by \
-             at most {:.0} % of the signal beyond the noise, and here: {}.",
+            "Unexplained: the data show something no model here explains, or the evidence \
+             cannot say which does. The model the verdict rule ranked first is reported below, \
+             but a model explains a channel only when it misses it by at most {:.0} % of the \
+             signal beyond the noise, and here: {}.",
             100.0 * EXPLAINED_ERROR,
             u.lines().join("; ")
         ),

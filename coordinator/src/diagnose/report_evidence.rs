@@ -116,9 +116,12 @@ fn settled_words(e: &ClassEvidence) -> String {
             None => {
                 let reached =
                     format!("no ({} rounds; annealing reached β = {:.3})", e.rounds.len(), a.beta);
-                match e.counted_ln_evidence() {
-                    Some(z) => format!("{reached}: counted at ln Z ≥ {z:.1}"),
-                    None => reached,
+                match (e.counted_ln_evidence(), e.ln_evidence_at_most()) {
+                    (Some(z), Some(top)) => {
+                        format!("{reached}: counted at ln Z ≥ {z:.1}, at most {top:.1}")
+                    }
+                    (Some(z), None) => format!("{reached}: counted at ln Z ≥ {z:.1}"),
+                    (None, _) => reached,
                 }
             }
         },
@@ -199,7 +202,14 @@ mod tests {
         assert_eq!(settled_words(&e), "yes");
         e.converged = false;
         assert_eq!(settled_words(&e), "no (0 rounds)");
-        let a = Annealed { estimate: None, stages: 8, fe_points: 600, beta: 0.0625, lower: None };
+        let a = Annealed {
+            estimate: None,
+            stages: 8,
+            fe_points: 600,
+            beta: 0.0625,
+            lower: None,
+            upper: None,
+        };
         e.annealed = Some(a.clone());
         e.restarts = 4;
         assert_eq!(
@@ -210,6 +220,10 @@ mod tests {
         assert_eq!(
             settled_words(&e),
             "no (0 rounds; annealing reached β = 0.062): counted at ln Z ≥ 494.0, after 4 restarts"
+        );
+        e.annealed = Some(Annealed { upper: Some((600.0, 0.5)), ..e.annealed.clone().unwrap() });
+        assert!(
+            settled_words(&e).ends_with("counted at ln Z ≥ 494.0, at most 601.0, after 4 restarts")
         );
         e.annealed = Some(Annealed { estimate: Some((1.0, 0.3)), stages: 2, beta: 1.0, ..a });
         e.converged = true;

@@ -224,7 +224,6 @@ fn sdof_diagnosis(
         ..CandidateResult::unassessed(cause, None)
     };
     Diagnosis {
-        bundle: "sdof-campaign".into(),
         cause: if pounding { Cause::PERIMETER_POUNDING } else { Cause::NONE },
         candidates: vec![
             candidate(Cause::NONE, base, !pounding),
@@ -232,12 +231,27 @@ fn sdof_diagnosis(
         ],
         calibration_runs: vec![0, 1],
         validation_runs: vec![2],
+        ..diagnosis(&[])
+    }
+}
+
+/// A diagnosis of "sdof-campaign" with an unassessed candidate of each of
+/// `causes` (none selected), naming `none` by the MDL rules.
+pub fn diagnosis(causes: &[super::cause::Cause]) -> super::pipeline::Diagnosis {
+    use super::pipeline::{CandidateResult, Diagnosis};
+    Diagnosis {
+        bundle: "sdof-campaign".into(),
+        cause: super::cause::Cause::NONE,
+        candidates: causes.iter().map(|c| CandidateResult::unassessed(*c, None)).collect(),
+        calibration_runs: vec![],
+        validation_runs: vec![],
         baseline_validation_error: f64::NAN,
         extended_validation_error: f64::NAN,
         gain: 0.0,
         fe_points: 0,
         channels: None,
         linear: None,
+        undecided: Vec::new(),
         unexplained: None,
         stage_loads: Vec::new(),
         rule: super::pipeline::VerdictRule::Mdl,

@@ -13,11 +13,17 @@
 //!   prediction by at least [`EXPLAINING_GAIN`] (with `none` named, gain 0:
 //!   whenever the baseline misses them): no candidate explains them.
 //!
+//! Under `--verdict evidence` a third: classes the evidence does not order
+//! (an annealing bounded one's evidence, and its bounds overlap the named
+//! class's: [`super::class_odds::order`]): the data may favour either, and
+//! naming one would state odds the evidence does not have.
+//!
 //! An extension that halves the baseline's miss is named with its gain even
 //! where it leaves more than the noise: its remaining misses are reported.
 //! The validation runs measure the verdict; this check says when the
 //! measurement fails it, and which runs and sensors are missed by how much.
 
+use super::cause::Cause;
 use super::fit::ChannelFit;
 use super::noise_floor::{excess_nrmse, signal_share};
 use super::pipeline::Diagnosis;
@@ -91,6 +97,9 @@ pub struct Unexplained {
     pub misses: Vec<Miss>,
     /// The named model's mean validation error beyond the noise.
     pub validation_error: f64,
+    /// The classes the evidence does not order, the named one first (empty
+    /// when it orders them or did not name).
+    pub undecided: Vec<Cause>,
 }
 
 /// The misses of `d` (None: everything is explained).
@@ -110,7 +119,12 @@ pub fn unexplained(d: &Diagnosis) -> Option<Unexplained> {
     if unexplained_runs {
         misses.extend(named.validation_misses.iter().cloned());
     }
-    (!misses.is_empty() || unexplained_runs).then_some(Unexplained { misses, validation_error })
+    let undecided = d.undecided.clone();
+    (!misses.is_empty() || unexplained_runs || !undecided.is_empty()).then_some(Unexplained {
+        misses,
+        validation_error,
+        undecided,
+    })
 }
 
 /// The channels of `fits` whose error beyond their noise (each fit's own
@@ -157,6 +171,15 @@ impl Unexplained {
                 )
             })
             .collect();
+        if let Some((named, rivals)) = self.undecided.split_first() {
+            let rivals: Vec<&str> = rivals.iter().map(|c| c.as_str()).collect();
+            out.push(format!(
+                "the evidence does not order {} against {}: an annealing bounded the evidence \
+                 without settling it, and the bounds overlap",
+                named.as_str(),
+                rivals.join(", ")
+            ));
+        }
         if self.validation_error > EXPLAINED_ERROR {
             out.push(format!(
                 "the named model's mean validation error is {:.3} (explained: at most {EXPLAINED_ERROR})",
@@ -203,6 +226,23 @@ mod tests {
         assert_eq!(named, ["flipped", "gain"]);
         assert!((misses[0].excess_error - 2.0).abs() < 0.01, "{misses:?}");
         assert!((misses[1].excess_error - 1.0 / 3.0).abs() < 0.01, "{misses:?}");
+    }
+
+    #[test]
+    fn classes_the_evidence_does_not_order_make_the_verdict_unexplained() {
+        let mut d = crate::diagnose::testkit::diagnosis(&[Cause::NONE, Cause::PERIMETER_FRICTION]);
+        d.candidates[1].selected = true;
+        d.candidates[1].validation_error = 0.05;
+        d.gain = 0.8;
+        assert_eq!(unexplained(&d), None, "{d:?}");
+        d.undecided = vec![Cause::PERIMETER_FRICTION, Cause::NONE];
+        let u = unexplained(&d).expect("undecided");
+        assert_eq!(u.undecided, d.undecided);
+        assert_eq!(
+            u.lines(),
+            ["the evidence does not order perimeter-friction against none: an annealing \
+              bounded the evidence without settling it, and the bounds overlap"]
+        );
     }
 
     #[test]

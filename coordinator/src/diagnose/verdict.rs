@@ -39,6 +39,10 @@ pub struct ClassJson {
     /// nat); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ln_evidence_at_least: Option<f64>,
+    /// When so bounded, and bounded above too: the most it may be (the
+    /// upper bound plus two standard errors, nat); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ln_evidence_at_most: Option<f64>,
     /// Posterior probability among the classes tried (null without an
     /// evidence, or one neither settled nor bounded). A bounded class
     /// enters at its counted bound: against settled classes its
@@ -64,6 +68,7 @@ impl ClassJson {
             ln_evidence_sd: e.and_then(|e| e.ln_evidence_sd),
             settled: e.and_then(|e| e.converged),
             ln_evidence_at_least: e.and_then(|e| e.ln_evidence_at_least),
+            ln_evidence_at_most: e.and_then(|e| e.ln_evidence_at_most),
             probability: e.and_then(|e| e.probability).filter(|p| p.is_finite()),
             validation_error: c.validation_error,
             selected: c.selected,
@@ -155,6 +160,10 @@ pub struct EvidenceJson {
     /// ([`super::class_evidence::ClassEvidence::counted_ln_evidence`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ln_evidence_at_least: Option<f64>,
+    /// The most ln Z may be when not settled but bounded above
+    /// ([`super::class_evidence::ClassEvidence::ln_evidence_at_most`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ln_evidence_at_most: Option<f64>,
     /// The Laplace approximation at the estimate (nats), for comparison.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub laplace_ln_evidence: Option<f64>,
@@ -198,6 +207,11 @@ pub struct AnnealedJson {
     /// the temperature reached, and the bound's standard error.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ln_evidence_lower: Option<[f64; 2]>,
+    /// When it stopped short: ln Z bounded above from the temperature
+    /// reached by the highest ln L/L̃ its particles held, and the bound's
+    /// standard error.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ln_evidence_upper: Option<[f64; 2]>,
 }
 
 /// One round as written: emulated ln Z, then the corrected ln Z, its
@@ -227,6 +241,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                 k_hat: Some(e.k_hat),
                 converged: Some(e.converged),
                 ln_evidence_at_least: (!e.converged).then(|| e.counted_ln_evidence()).flatten(),
+                ln_evidence_at_most: (!e.converged).then(|| e.ln_evidence_at_most()).flatten(),
                 laplace_ln_evidence: Some(e.laplace_ln_evidence),
                 curvature_scale: (e.curvature_scale != 1.0).then_some(e.curvature_scale),
                 fe_points: e.fe_points,
@@ -238,6 +253,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
                     fe_points: a.fe_points,
                     beta: a.beta,
                     ln_evidence_lower: a.lower.map(|(b, sd)| [b, sd]),
+                    ln_evidence_upper: a.upper.map(|(b, sd)| [b, sd]),
                 }),
                 rounds: e.rounds.iter().map(round_json).collect(),
                 not_computable: None,
@@ -253,6 +269,7 @@ fn evidence_json(o: &Option<Result<super::class_odds::ClassOdds, String>>) -> Op
             k_hat: None,
             converged: None,
             ln_evidence_at_least: None,
+            ln_evidence_at_most: None,
             laplace_ln_evidence: None,
             curvature_scale: None,
             fe_points: 0,
@@ -435,6 +452,10 @@ pub struct UnexplainedJson {
     pub validation_error: f64,
     /// Each channel missed by more than the explained error.
     pub misses: Vec<MissJson>,
+    /// The classes the evidence does not order, the named one first
+    /// (absent when it orders them).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub undecided: Vec<String>,
 }
 
 /// One missed channel as written.
@@ -543,6 +564,7 @@ fn verdict_fields(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                     excess_error: m.excess_error,
                 })
                 .collect(),
+            undecided: u.undecided.iter().map(|c| c.as_str().to_string()).collect(),
         }),
         candidates: d
             .candidates

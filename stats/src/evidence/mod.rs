@@ -36,6 +36,6 @@ mod tests;
 pub use correction::{check_indices, correct_evidence, CorrectedEvidence};
 pub use prior::{GaussianPrior, Prior};
 pub use resample::multinomial;
-pub use smc::{LowerBound, SmcError, SmcOptions, SmcRun, SmcStage, Start, TemperedSmc};
+pub use smc::{Bounds, SmcError, SmcOptions, SmcRun, SmcStage, Start, TemperedSmc};
 pub use tempering::{incremental_weight_cov, next_temperature};
 pub use variance::relative_variance;

@@ -100,45 +100,63 @@ pub enum SmcError<E: std::error::Error + 'static> {
     #[error("all {particles} prior draws have zero likelihood: the evidence is below what the population resolves")]
     NoSupport { particles: usize },
     /// The temperature did not reach 1 within the stage limit; what the
-    /// run reached still bounds the evidence from below ([`LowerBound`]).
+    /// run reached still bounds the evidence ([`Bounds`]).
     #[error("temperature {beta:.3e} after {stages} stages: the likelihood is too sharp for the population")]
     Stages {
         /// Stages run.
         stages: usize,
         /// Temperature reached.
         beta: f64,
-        /// The lower bound on ln Z from there (None: a particle's
+        /// The bounds on ln Z from there (None: a particle's
         /// log-likelihood was not finite).
-        lower: Option<LowerBound>,
+        bounds: Option<Bounds>,
     },
 }
 
-/// A lower bound on ln Z from a run that stopped at temperature β < 1.
-/// ln Z(β) = ln ∫ base · L^β is convex in β (it is the cumulant generating
-/// function of ln L under the base), so it lies above its tangent at β:
-/// ln Z(1) ≥ ln Z(β) + (1 − β) E_β[ln L], the slope being the mean of ln L
-/// under the tempered posterior at β. Both estimates err on the low side
-/// where they err: ln Ẑ(β) is biased low (Jensen), and a population that
-/// lags behind β (too few moves) sits where the slope is smaller (it grows
-/// with β, ln Z being convex).
+/// Bounds on ln Z from a run that stopped at temperature β < 1.
+///
+/// Below: ln Z(β) = ln ∫ base · L^β is convex in β (it is the cumulant
+/// generating function of ln L under the base), so it lies above its
+/// tangent at β: ln Z(1) ≥ ln Z(β) + (1 − β) E_β[ln L], the slope being the
+/// mean of ln L under the tempered posterior at β. Both estimates err on
+/// the low side where they err: ln Ẑ(β) is biased low (Jensen), and a
+/// population that lags behind β (too few moves) sits where the slope is
+/// smaller (it grows with β, ln Z being convex).
+///
+/// Above: Z(1) = Z(β) E_β[L^(1−β)] ≤ Z(β) (sup L)^(1−β), so ln Z(1) ≤
+/// ln Z(β) + (1 − β) sup ln L. The supremum is estimated by the highest
+/// ln L any population of the run held: a bound if the likelihood is
+/// nowhere higher than the particles found, an estimate otherwise (the
+/// populations at higher β gather where L is highest).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LowerBound {
-    /// ln Ẑ(β) + (1 − β) × the population's mean ln L.
+pub struct Bounds {
+    /// The lower bound: ln Ẑ(β) + (1 − β) × the population's mean ln L.
     pub ln_evidence: f64,
     /// Its standard error: ln Ẑ(β)'s (genealogy estimator) and the mean's
     /// (the sample's spread over the square root of its distinct ancestors,
     /// copies of one ancestor being correlated) combined.
     pub sd: f64,
+    /// The upper bound: ln Ẑ(β) + (1 − β) × the highest ln L held.
+    pub ln_evidence_upper: f64,
+    /// Its standard error: ln Ẑ(β)'s.
+    pub upper_sd: f64,
     /// ln Ẑ(β), the evidence of the tempered posterior reached.
     pub ln_evidence_at_beta: f64,
 }
 
-impl LowerBound {
-    /// The bound from a population at `beta` with log-likelihoods `ln_l`
+impl Bounds {
+    /// The bounds from a population at `beta` with log-likelihoods `ln_l`
     /// and first-population ancestors `eve`, `ln_z` = ln Ẑ(β) with relative
-    /// variance `rel_var`; None when a log-likelihood is not finite.
-    fn at(beta: f64, ln_z: f64, rel_var: f64, ln_l: &[f64], eve: &[usize]) -> Option<Self> {
-        if ln_l.is_empty() || ln_l.iter().any(|v| !v.is_finite()) {
+    /// variance `rel_var`, `ln_l_max` the highest ln L any population held;
+    /// None when a log-likelihood is not finite.
+    fn at(
+        beta: f64,
+        (ln_z, rel_var): (f64, f64),
+        ln_l: &[f64],
+        eve: &[usize],
+        ln_l_max: f64,
+    ) -> Option<Self> {
+        if ln_l.is_empty() || ln_l.iter().any(|v| !v.is_finite()) || !ln_l_max.is_finite() {
             return None;
         }
         let n = ln_l.len() as f64;
@@ -146,8 +164,15 @@ impl LowerBound {
         let var = ln_l.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
         let distinct = count_distinct(eve.iter().copied()).max(1) as f64;
         let gap = 1.0 - beta;
-        let sd = (ln_sd(rel_var).powi(2) + gap * gap * var / distinct).sqrt();
-        Some(LowerBound { ln_evidence: ln_z + gap * mean, sd, ln_evidence_at_beta: ln_z })
+        let upper_sd = ln_sd(rel_var);
+        let sd = (upper_sd.powi(2) + gap * gap * var / distinct).sqrt();
+        Some(Bounds {
+            ln_evidence: ln_z + gap * mean,
+            sd,
+            ln_evidence_upper: ln_z + gap * ln_l_max.max(mean),
+            upper_sd,
+            ln_evidence_at_beta: ln_z,
+        })
     }
 }
 
@@ -242,10 +267,11 @@ impl TemperedSmc {
         let (mut beta, mut ln_z, mut rel_var, mut distinct) = (0.0, ln_z0, f64::INFINITY, n);
         let mut scale = 2.38 / (d.max(1) as f64).sqrt();
         let mut stages = Vec::new();
+        let mut ln_l_max = highest(&ln_l);
         while beta < 1.0 {
             if stages.len() >= o.max_stages {
-                let lower = LowerBound::at(beta, ln_z, rel_var, &ln_l, &eve);
-                return Err(SmcError::Stages { stages: stages.len(), beta, lower });
+                let bounds = Bounds::at(beta, (ln_z, rel_var), &ln_l, &eve, ln_l_max);
+                return Err(SmcError::Stages { stages: stages.len(), beta, bounds });
             }
             let next = next_temperature(&ln_l, beta, o.target_cov);
             let lw: Vec<f64> = ln_l.iter().map(|l| (next - beta) * l).collect();
@@ -278,6 +304,7 @@ impl TemperedSmc {
                 rng,
             )?;
             evaluations += moved.0;
+            ln_l_max = ln_l_max.max(highest(&ln_l));
             stages.push(SmcStage {
                 beta,
                 ln_increment,
@@ -360,6 +387,11 @@ fn count_distinct(eve: impl Iterator<Item = usize>) -> usize {
     e.sort_unstable();
     e.dedup();
     e.len()
+}
+
+/// The highest of `ln_l` (−∞ when empty).
+fn highest(ln_l: &[f64]) -> f64 {
+    ln_l.iter().copied().fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// The standard error of ln Ẑ from Ẑ's relative variance,

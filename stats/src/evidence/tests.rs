@@ -272,7 +272,7 @@ fn a_run_from_base_draws_gives_the_evidence_under_the_base() {
 }
 
 #[test]
-fn a_run_stopped_short_bounds_the_evidence_from_below_by_its_tangent() {
+fn a_run_stopped_short_bounds_the_evidence_below_by_its_tangent_and_above_by_its_best() {
     // Base N(0, 1), L = exp(−x²/2σ²): Z(β) = (1 + β/σ²)^(−1/2), so
     // ln Z(β) = −½ ln(1 + β/σ²) and its slope −1/(2(σ² + β)).
     let sigma2: f64 = 1e-4;
@@ -285,7 +285,7 @@ fn a_run_stopped_short_bounds_the_evidence_from_below_by_its_tangent() {
     let mut gaps = Vec::new();
     for (stages, seed) in [(2, 5), (3, 6), (4, 7)] {
         let o = SmcOptions { particles: 2000, max_stages: stages, seed, ..SmcOptions::default() };
-        let Err(SmcError::Stages { beta, lower: Some(b), .. }) =
+        let Err(SmcError::Stages { beta, bounds: Some(b), .. }) =
             TemperedSmc::new(o).run(&base, &mut batch)
         else {
             panic!("{stages} stages should not reach β = 1 on a likelihood 100 times narrower");
@@ -300,8 +300,15 @@ fn a_run_stopped_short_bounds_the_evidence_from_below_by_its_tangent() {
         );
         assert!((b.ln_evidence_at_beta - ln_z(beta)).abs() < 3.0 * b.sd + 0.05, "{b:?}");
         assert!(b.ln_evidence < exact + 2.0 * b.sd, "bound {b:?} above ln Z = {exact:.3}");
-        gaps.push(exact - b.ln_evidence);
+        // sup ln L = 0 (at x = 0): the upper bound is ln Z(β) less what the
+        // particles miss of the peak, above ln Z(1) as ln Z falls with β.
+        assert!(b.ln_evidence_upper > exact - 2.0 * b.upper_sd, "upper {b:?} below {exact:.3}");
+        assert!((b.ln_evidence_upper - ln_z(beta)).abs() < 3.0 * b.upper_sd + 0.05, "{b:?}");
+        gaps.push((exact - b.ln_evidence, b.ln_evidence_upper - exact));
     }
-    // The bound tightens as β nears 1 (seen: 82, then under 1 nat at β 0.28).
-    assert!(gaps.windows(2).all(|g| g[1] < g[0]) && gaps[2] < 1.0, "{gaps:?}");
+    // Both bounds tighten as β nears 1 (seen: the lower 82 nat below, then
+    // under 1 nat at β 0.28).
+    let (below, above): (Vec<f64>, Vec<f64>) = gaps.iter().copied().unzip();
+    assert!(below.windows(2).all(|g| g[1] < g[0]) && below[2] < 1.0, "{gaps:?}");
+    assert!(above.windows(2).all(|g| g[1] < g[0]), "{gaps:?}");
 }
