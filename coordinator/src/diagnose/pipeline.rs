@@ -456,7 +456,14 @@ struct Variants {
 impl Variants {
     /// The baseline's channel fits at its best design point.
     fn baseline_channels(&self) -> Result<&[ChannelFit], DiagnoseError> {
-        match &self.cals[0].points[self.base_best].fit {
+        let point = self.cals[0].points.get(self.base_best).ok_or_else(|| {
+            let n = self.cals[0].points.len();
+            DiagnoseError::Model(format!(
+                "the baseline's best point {} is past its {n} points",
+                self.base_best
+            ))
+        })?;
+        match &point.fit {
             Ok(ch) => Ok(ch),
             Err(e) => Err(DiagnoseError::Model(e.clone())),
         }
@@ -785,6 +792,52 @@ fn most_probable(results: &[CandidateResult], effect_prior: f64) -> Option<class
     class_odds::order(&ranges)
 }
 
+/// A class's evidence computed again under a policy ([`decide`]): its
+/// odds, or why it failed (None: not computed).
+type Again<'a> = dyn FnMut(usize, &EvidencePolicy) -> Result<Option<Result<ClassOdds, String>>, DiagnoseError>
+    + 'a;
+
+/// Anneals further the classes the evidence does not order yet: while the
+/// most probable class has rivals ([`most_probable`]), the annealing's FE
+/// runs are doubled, up to [`EvidencePolicy::decide_runs`], and the
+/// evidence of the most probable class and of each rival that did not
+/// settle is computed again under it (`again`), its FE points replacing
+/// the former evidence's. FE runs go where the verdict is in doubt, not to
+/// a class a rule picked.
+fn decide(
+    results: &mut [CandidateResult],
+    policy: &EvidencePolicy,
+    again: &mut Again<'_>,
+) -> Result<(), DiagnoseError> {
+    let prior = policy.effect_prior;
+    let mut runs = policy.anneal_runs;
+    while runs > 0 && runs < policy.decide_runs {
+        let Some(order) = most_probable(results, prior) else { break };
+        if order.rivals.is_empty() {
+            break;
+        }
+        runs = (2 * runs).min(policy.decide_runs);
+        let longer = EvidencePolicy { anneal_runs: runs, ..policy.clone() };
+        for k in std::iter::once(order.top).chain(order.rivals) {
+            let old = results[k].odds.as_ref().and_then(|o| o.as_ref().ok());
+            let Some(old_points) =
+                old.filter(|o| !o.evidence.converged).map(|o| o.evidence.fe_points)
+            else {
+                continue;
+            };
+            let odds = again(k, &longer)?;
+            let new_points =
+                odds.as_ref().and_then(|o| o.as_ref().ok()).map_or(0, |o| o.evidence.fe_points);
+            results[k].fe_points = results[k].fe_points + new_points - old_points;
+            results[k].odds = odds;
+        }
+        let classes =
+            results.iter_mut().map(|r| (r.cause, r.odds.as_mut().and_then(|o| o.as_mut().ok())));
+        renormalise(classes, prior);
+    }
+    Ok(())
+}
+
 /// The extension a diagnosis names, with its linear part.
 struct Named<'c> {
     cal: &'c mut Calibration,
@@ -879,15 +932,10 @@ impl After<'_> {
         Ok(())
     }
 
-    /// Anneals further the classes the evidence does not order yet (the
-    /// most probable and its rivals, [`most_probable`]) that have not
-    /// settled: each one's evidence replayed from `starts` (its calibration
-    /// as its evidence began, so the replay repeats its FE runs, which an
-    /// evaluation store answers without running them) with the annealing's
-    /// FE runs doubled, until
-    /// the evidence orders them or [`EvidencePolicy::decide_runs`] is
-    /// reached. FE runs go where the verdict is in doubt, not to a class
-    /// a rule picked.
+    /// Anneals further the classes the evidence does not order yet
+    /// ([`decide`]), each one's evidence replayed from `starts` (its
+    /// calibration as its evidence began, so the replay repeats its FE runs,
+    /// which an evaluation store answers without running them).
     fn decide(
         &self,
         (policy, w): (&EvidencePolicy, ChannelWeights<'_>),
@@ -896,47 +944,21 @@ impl After<'_> {
         exec: &mut dyn FeExecutor,
         progress: &mut dyn FnMut(&str, usize, usize),
     ) -> Result<(), DiagnoseError> {
-        let prior = policy.effect_prior;
-        let mut runs = policy.anneal_runs;
-        while runs > 0 && runs < policy.decide_runs {
-            let Some(order) = most_probable(results, prior) else { break };
-            if order.rivals.is_empty() {
-                break;
-            }
-            runs = (2 * runs).min(policy.decide_runs);
-            let longer = EvidencePolicy { anneal_runs: runs, ..policy.clone() };
-            let mut search = self.peak_search(&longer, w);
-            for k in std::iter::once(order.top).chain(order.rivals) {
-                let old = results[k].odds.as_ref().and_then(|o| o.as_ref().ok());
-                let Some(old_points) =
-                    old.filter(|o| !o.evidence.converged).map(|o| o.evidence.fe_points)
-                else {
-                    continue;
-                };
-                let mut cal = starts[k].clone();
-                let stage = format!("deciding: annealing {} to {runs} FE runs", cal.cause.as_str());
-                let odds = class_odds(
-                    std::slice::from_mut(&mut cal),
-                    (self.b, self.runs.0),
-                    w,
-                    exec,
-                    (&longer, &mut search),
-                    &mut |d, n| progress(&stage, d, n),
-                )?;
-                let again = odds.into_iter().next();
-                let new_points = again
-                    .as_ref()
-                    .and_then(|o| o.as_ref().ok())
-                    .map_or(0, |o| o.evidence.fe_points);
-                results[k].fe_points = results[k].fe_points + new_points - old_points;
-                results[k].odds = again;
-            }
-            let classes = results
-                .iter_mut()
-                .map(|r| (r.cause, r.odds.as_mut().and_then(|o| o.as_mut().ok())));
-            renormalise(classes, prior);
-        }
-        Ok(())
+        decide(results, policy, &mut |k, longer| {
+            let mut cal = starts[k].clone();
+            let runs = longer.anneal_runs;
+            let stage = format!("deciding: annealing {} to {runs} FE runs", cal.cause.as_str());
+            let mut search = self.peak_search(longer, w);
+            let odds = class_odds(
+                std::slice::from_mut(&mut cal),
+                (self.b, self.runs.0),
+                w,
+                exec,
+                (longer, &mut search),
+                &mut |d, n| progress(&stage, d, n),
+            )?;
+            Ok(odds.into_iter().next())
+        })
     }
 
     /// The local search a class's evidence starts from, and resumes from
@@ -1133,6 +1155,10 @@ impl After<'_> {
             tracing::debug!(cause = v.cals[k].cause.as_str(), wins, "mass-share twin");
             if wins {
                 replaced = true;
+                if k == 0 {
+                    // The baseline's best point indexes the twin's points now.
+                    v.base_best = twin.best(n_eff0).unwrap_or(v.base_best);
+                }
                 v.cals[k] = twin;
                 results[k] = match k {
                     0 => assess(b, &v.cals[0], self.n_eff.1, self.runs, &Held::none(), exec)?,
@@ -1495,5 +1521,81 @@ mod tests {
         assert_eq!(top(&r, 0.5), Some(0), "a failed evidence does not count");
         r[0].odds = None;
         assert_eq!(top(&r, 0.5), None);
+    }
+
+    /// A [`decide`] step that must not be asked for.
+    fn never_asked(
+        _: usize,
+        _: &EvidencePolicy,
+    ) -> Result<Option<Result<ClassOdds, String>>, DiagnoseError> {
+        panic!("asked to anneal again")
+    }
+
+    /// A class's odds bounded by an annealing to lower ..= upper after
+    /// `fe_points` FE runs (settled at `lower` when `upper` is None).
+    fn bounded_odds(lower: f64, upper: Option<f64>, fe_points: usize) -> ClassOdds {
+        let mut o = crate::diagnose::testkit::class_odds(lower, upper.is_none());
+        o.evidence.fe_points = fe_points;
+        o.evidence.annealed = upper.map(|upper| crate::diagnose::class_evidence::Annealed {
+            estimate: None,
+            stages: 8,
+            fe_points,
+            beta: 0.1,
+            lower: Some((lower, 0.0)),
+            upper: Some((upper, 0.0)),
+        });
+        o
+    }
+
+    #[test]
+    fn deciding_anneals_only_the_unsettled_classes_in_doubt_doubling_until_ordered() {
+        let policy = EvidencePolicy::default();
+        let class = |cause, o: ClassOdds, fe_points| CandidateResult {
+            odds: Some(Ok(o)),
+            fe_points,
+            ..CandidateResult::unassessed(cause, None)
+        };
+        // `none` settled at 0; friction bounded to [−20, +5] after 640 FE
+        // runs (a rival); pounding bounded to [−90, −50] (no rival).
+        let start = vec![
+            class(Cause::NONE, bounded_odds(0.0, None, 300), 1000),
+            class(Cause::PERIMETER_FRICTION, bounded_odds(-20.0, Some(5.0), 640), 2000),
+            class(Cause::PERIMETER_POUNDING, bounded_odds(-90.0, Some(-50.0), 640), 2000),
+        ];
+        // Friction's doubled annealing still overlaps, its second settles
+        // at −3: ordered, `none` first.
+        let mut asked = Vec::new();
+        let mut r = start.clone();
+        decide(&mut r, &policy, &mut |k, p| {
+            asked.push((k, p.anneal_runs));
+            let o = match p.anneal_runs {
+                1280 => bounded_odds(-10.0, Some(2.0), 1280),
+                _ => bounded_odds(-3.0, None, 2560),
+            };
+            Ok(Some(Ok(o)))
+        })
+        .unwrap();
+        assert_eq!(asked, [(1, 1280), (1, 2560)]);
+        let o = most_probable(&r, 0.5).unwrap();
+        assert_eq!((o.top, o.rivals), (0, vec![]));
+        assert_eq!(r[1].fe_points, 2000 - 640 + 2560, "the replay's FE points replace the first's");
+        assert_eq!((r[0].fe_points, r[2].fe_points), (1000, 2000));
+        let p = |k: usize| r[k].odds.as_ref().unwrap().as_ref().unwrap().probability;
+        assert!((p(0) - 1.0 / (1.0 + (-3f64).exp())).abs() < 1e-12, "renormalised: {}", p(0));
+        // Never ordered: it stops at decide_runs with the rival left.
+        let mut asked = Vec::new();
+        let mut r = start.clone();
+        decide(&mut r, &policy, &mut |k, p| {
+            asked.push((k, p.anneal_runs));
+            Ok(Some(Ok(bounded_odds(-20.0, Some(5.0), p.anneal_runs))))
+        })
+        .unwrap();
+        assert_eq!(asked, [(1, 1280), (1, 2560)]);
+        assert_eq!(most_probable(&r, 0.5).unwrap().rivals, [1]);
+        // Ordered from the start, or without annealing: nothing is asked.
+        let mut r = start[..1].iter().chain(&start[2..]).cloned().collect::<Vec<_>>();
+        decide(&mut r, &policy, &mut never_asked).unwrap();
+        let off = EvidencePolicy { anneal_runs: 0, ..policy.clone() };
+        decide(&mut start.clone(), &off, &mut never_asked).unwrap();
     }
 }
