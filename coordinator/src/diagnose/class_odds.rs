@@ -122,8 +122,8 @@ pub struct Range {
 /// The range of class `cause`'s log-posterior under `effect_prior` (None:
 /// not counted).
 pub fn range(o: &ClassOdds, cause: Cause, effect_prior: f64) -> Option<Range> {
-    let counted = counted_ln_posterior(o, cause, effect_prior)?;
     let prior = ln_prior(cause, effect_prior);
+    let counted = o.evidence.counted_ln_evidence()? + prior;
     Some(Range { counted, at_most: o.evidence.ln_evidence_at_most().map(|z| z + prior) })
 }
 
@@ -241,11 +241,7 @@ mod tests {
 
     /// A class bounded to [lower, upper] (each ± 0, so counted as given).
     fn bounded(lower: f64, upper: Option<f64>) -> ClassOdds {
-        let mut o = evidence(lower + 1000.0, false, Some((lower, 0.0)));
-        if let Some(a) = o.evidence.annealed.as_mut() {
-            a.upper = upper.map(|u| (u, 0.0));
-        }
-        o
+        super::super::testkit::bounded(lower, upper, 640)
     }
 
     #[test]

@@ -239,10 +239,6 @@ pub struct Diagnosis {
     /// The linear stage's fit of the specimen's linear form, which every
     /// variant held (None: the stage did not run).
     pub linear: Option<LinearStage>,
-    /// The classes the evidence does not order, the one named first
-    /// ([`class_odds::order`]); empty when it names one, or the MDL rules
-    /// do. The verdict is then `unexplained`.
-    pub undecided: Vec<Cause>,
     /// What the data show that no model explains ([`unexplained`]); the
     /// verdict is then `unexplained`.
     pub unexplained: Option<Unexplained>,
@@ -408,12 +404,13 @@ fn diagnose_stages(
     d.rule = if by_evidence.is_some() { VerdictRule::Evidence } else { VerdictRule::Mdl };
     d.channels = v.channels;
     d.linear = linear;
-    d.undecided = (by_evidence.into_iter())
+    // The classes the evidence does not order, the one named first.
+    let undecided = (by_evidence.into_iter())
         .filter(|o| !o.rivals.is_empty())
         .flat_map(|o| std::iter::once(o.top).chain(o.rivals))
         .map(|k| d.candidates[k].cause)
         .collect();
-    d.unexplained = unexplained(&d);
+    d.unexplained = unexplained(&d, undecided);
     Ok(d)
 }
 
@@ -750,7 +747,6 @@ fn conclude(
         gain: if pick == 0 { 0.0 } else { 1.0 - ext / base },
         channels: None,
         linear: None,
-        undecided: Vec::new(),
         unexplained: None,
         rule: VerdictRule::Mdl,
         stage_loads: Vec::new(),
@@ -1505,16 +1501,7 @@ mod tests {
         assert_eq!(top(&r, 0.5), Some(0), "an evidence that did not settle does not count");
         // Bounded by an annealing to [−20, −5] it is counted, and may lie
         // above `none`: a rival, so the evidence names neither.
-        if let Some(Ok(o)) = &mut r[1].odds {
-            o.evidence.annealed = Some(crate::diagnose::class_evidence::Annealed {
-                estimate: None,
-                stages: 8,
-                fe_points: 640,
-                beta: 0.1,
-                lower: Some((-20.0, 0.0)),
-                upper: Some((-5.0, 0.0)),
-            });
-        }
+        r[1].odds = Some(Ok(crate::diagnose::testkit::bounded(-20.0, Some(-5.0), 640)));
         let o = most_probable(&r, 0.5).unwrap();
         assert_eq!((o.top, o.rivals), (0, vec![1]));
         r[1].odds = Some(Err("every FE check failed".into()));
@@ -1534,16 +1521,9 @@ mod tests {
     /// A class's odds bounded by an annealing to lower ..= upper after
     /// `fe_points` FE runs (settled at `lower` when `upper` is None).
     fn bounded_odds(lower: f64, upper: Option<f64>, fe_points: usize) -> ClassOdds {
-        let mut o = crate::diagnose::testkit::class_odds(lower, upper.is_none());
+        use crate::diagnose::testkit::{bounded, class_odds};
+        let mut o = upper.map_or_else(|| class_odds(lower, true), |u| bounded(lower, Some(u), 0));
         o.evidence.fe_points = fe_points;
-        o.evidence.annealed = upper.map(|upper| crate::diagnose::class_evidence::Annealed {
-            estimate: None,
-            stages: 8,
-            fe_points,
-            beta: 0.1,
-            lower: Some((lower, 0.0)),
-            upper: Some((upper, 0.0)),
-        });
         o
     }
 

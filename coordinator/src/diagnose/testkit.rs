@@ -251,7 +251,6 @@ pub fn diagnosis(causes: &[super::cause::Cause]) -> super::pipeline::Diagnosis {
         fe_points: 0,
         channels: None,
         linear: None,
-        undecided: Vec::new(),
         unexplained: None,
         stage_loads: Vec::new(),
         rule: super::pipeline::VerdictRule::Mdl,
@@ -290,4 +289,20 @@ pub fn class_odds(ln_z: f64, converged: bool) -> super::class_odds::ClassOdds {
         annealed: None,
     };
     super::class_odds::ClassOdds { evidence, probability: f64::NAN, effect_prior: 0.5 }
+}
+
+/// The odds of a class whose evidence did not settle, an annealing of
+/// `fe_points` FE runs having bounded it to `lower` ..= `upper` (each ± 0,
+/// so counted at `lower`; `upper` None: bounded below only).
+pub fn bounded(lower: f64, upper: Option<f64>, fe_points: usize) -> super::class_odds::ClassOdds {
+    let mut o = class_odds(lower, false);
+    o.evidence.annealed = Some(super::class_evidence::Annealed {
+        estimate: None,
+        stages: 8,
+        fe_points,
+        beta: 0.1,
+        lower: Some((lower, 0.0)),
+        upper: upper.map(|u| (u, 0.0)),
+    });
+    o
 }

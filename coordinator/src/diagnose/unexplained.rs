@@ -102,8 +102,9 @@ pub struct Unexplained {
     pub undecided: Vec<Cause>,
 }
 
-/// The misses of `d` (None: everything is explained).
-pub fn unexplained(d: &Diagnosis) -> Option<Unexplained> {
+/// The misses of `d` and the classes the evidence did not order,
+/// `undecided` (the named one first; None: everything is explained).
+pub fn unexplained(d: &Diagnosis, undecided: Vec<Cause>) -> Option<Unexplained> {
     let named = d.candidates.iter().find(|c| c.selected)?;
     let linear_runs: Vec<&str> =
         d.linear.iter().flat_map(|l| l.channels().iter().map(|c| c.run.as_str())).collect();
@@ -119,7 +120,6 @@ pub fn unexplained(d: &Diagnosis) -> Option<Unexplained> {
     if unexplained_runs {
         misses.extend(named.validation_misses.iter().cloned());
     }
-    let undecided = d.undecided.clone();
     (!misses.is_empty() || unexplained_runs || !undecided.is_empty()).then_some(Unexplained {
         misses,
         validation_error,
@@ -234,10 +234,10 @@ mod tests {
         d.candidates[1].selected = true;
         d.candidates[1].validation_error = 0.05;
         d.gain = 0.8;
-        assert_eq!(unexplained(&d), None, "{d:?}");
-        d.undecided = vec![Cause::PERIMETER_FRICTION, Cause::NONE];
-        let u = unexplained(&d).expect("undecided");
-        assert_eq!(u.undecided, d.undecided);
+        assert_eq!(unexplained(&d, vec![]), None, "{d:?}");
+        let undecided = vec![Cause::PERIMETER_FRICTION, Cause::NONE];
+        let u = unexplained(&d, undecided.clone()).expect("undecided");
+        assert_eq!(u.undecided, undecided);
         assert_eq!(
             u.lines(),
             ["the evidence does not order perimeter-friction against none: an annealing \

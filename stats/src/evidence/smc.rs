@@ -169,7 +169,7 @@ impl Bounds {
         Some(Bounds {
             ln_evidence: ln_z + gap * mean,
             sd,
-            ln_evidence_upper: ln_z + gap * ln_l_max.max(mean),
+            ln_evidence_upper: ln_z + gap * ln_l_max,
             upper_sd,
             ln_evidence_at_beta: ln_z,
         })
