@@ -61,3 +61,5 @@ pub(crate) mod testkit;
 pub(crate) mod farm_executor_tests;
 #[cfg(test)]
 mod fit_tests;
+#[cfg(test)]
+mod shared_form_tests;

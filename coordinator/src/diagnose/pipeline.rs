@@ -373,9 +373,15 @@ fn diagnose_stages(
     }
     // The validation runs measure the verdict; they never choose it.
     let pick = select(&results, MISFIT_NATS);
-    if pick != 0 && searches_share(campaign_work(b, &cal_runs)) {
+    let by_classes = opts.rule == VerdictRule::Evidence && opts.evidence.is_some();
+    if (pick != 0 || by_classes) && searches_share(campaign_work(b, &cal_runs)) {
         let after = After { b, runs, n_eff: (&n_eff0, &n_eff), held: &held, opts };
-        if after.damping_share(&mut v, pick, exec, progress, &mut results)? {
+        let replaced = if by_classes {
+            after.shared_share(&mut v, exec, progress, &mut results)?
+        } else {
+            after.damping_share(&mut v, pick, exec, progress, &mut results)?
+        };
+        if replaced {
             excess_validation_errors(b, &val_runs, &mut results);
         }
     }
@@ -1164,6 +1170,55 @@ impl After<'_> {
             results[k].fe_points = spent;
         }
         Ok(replaced)
+    }
+
+    /// Under the evidence's verdict, the damping's mass share
+    /// ([`super::damping_share`]) as part of the linear form every class
+    /// shares: the baseline's twin is searched whichever class the MDL
+    /// rules named; when it fits the calibration runs better by more than
+    /// [`twin_wins`]' allowance it replaces the baseline, the classes of
+    /// several effects are calibrated around it, and every calibrated
+    /// extension is replaced by its own twin whether or not that fits
+    /// better by the allowance (its evidence then integrates over the share
+    /// as every other class's does). Returns whether the share was freed.
+    fn shared_share(
+        &self,
+        v: &mut Variants,
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+        results: &mut [CandidateResult],
+    ) -> Result<bool, DiagnoseError> {
+        let (b, runs, n_eff0, budget) = (self.b, self.runs.0, self.n_eff.0, &self.opts.budget);
+        for k in 0..v.cals.len() {
+            let stage = format!("{} with the damping's mass share", v.cals[k].cause.as_str());
+            let mut report = |d| progress(&stage, d, share_runs(budget));
+            let Some(twin) =
+                calibrate_share_twin(b, &v.cals[k], runs, n_eff0, budget, exec, &mut report)?
+            else {
+                continue;
+            };
+            let spent = results[k].fe_points + twin.fe_points();
+            if k == 0 {
+                let wins = twin_wins(&v.cals[0], &twin, n_eff0);
+                tracing::debug!(wins, "the baseline's mass-share twin");
+                if !wins {
+                    results[0].fe_points = spent;
+                    return Ok(false);
+                }
+                let best = twin.best(n_eff0).ok_or_else(|| {
+                    DiagnoseError::Model("the baseline's mass-share twin has no best point".into())
+                })?;
+                v.base = (twin.points[best].u.clone(), twin.priors.clone(), v.base.2);
+                v.base_best = best;
+                v.cals[0] = twin;
+                results[0] = assess(b, &v.cals[0], self.n_eff.1, self.runs, &Held::none(), exec)?;
+            } else {
+                v.cals[k] = twin;
+                results[k] = self.assess(&v.cals[k], v.linear_parts[k].as_ref(), exec)?;
+            }
+            results[k].fe_points = spent;
+        }
+        Ok(true)
     }
 }
 

@@ -51,6 +51,9 @@ pub struct Answer {
     pub parameters: BTreeMap<String, f64>,
     /// Rayleigh damping ratio.
     pub damping_ratio: f64,
+    /// The damping's share on the mass term (written only when not 0.5).
+    #[serde(skip_serializing_if = "is_even_share")]
+    pub damping_mass_share: f64,
     /// Baseline demand the strength was set from: peak perimeter
     /// displacement (mm), perimeter force (N), connection force (N).
     pub baseline_demand: Option<[f64; 3]>,
@@ -153,6 +156,7 @@ pub fn synthesize_with(
         strength: format!("{:?}", spec.hidden.strength).to_lowercase(),
         parameters: params.iter().map(|(k, v)| (k.to_string(), v)).collect(),
         damping_ratio: spec.truth.damping_ratio,
+        damping_mass_share: spec.truth.damping_mass_share,
         baseline_demand: demand,
         seed: spec.seed,
         simulator: simulator_name,
@@ -241,6 +245,17 @@ fn simulator_results(
     })
 }
 
+/// The true model's solver options: `truth`'s damping ratio and mass share.
+fn truth_options(spec: &SynthSpec) -> SimOptions {
+    let opts = run_options(spec.truth.damping_ratio);
+    SimOptions { damping_mass_share: spec.truth.damping_mass_share, ..opts }
+}
+
+/// Whether `share` is the seed's even split (left out of the answer).
+fn is_even_share(share: &f64) -> bool {
+    *share == 0.5
+}
+
 /// Mid-points of the variant's priors overridden by `truth.parameters`.
 fn truth_parameters(
     spec: &SynthSpec,
@@ -286,7 +301,7 @@ fn baseline_demand(
 ) -> Result<[f64; 3], SynthError> {
     let opts = SimOptions {
         spring_groups: vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()],
-        ..run_options(spec.truth.damping_ratio)
+        ..truth_options(spec)
     };
     let mut d = [0.0f64; 3];
     for (r, input) in spec.runs.iter().zip(inputs) {
@@ -340,7 +355,7 @@ fn simulate_runs(
     observer: &mut dyn FnMut(&str),
 ) -> Result<(Runs, Vec<f64>), SynthError> {
     let n_modes = spec.modal.as_ref().map_or(6, |m| m.modes.max(1));
-    let opts = SimOptions { n_modes, ..run_options(spec.truth.damping_ratio) };
+    let opts = SimOptions { n_modes, ..truth_options(spec) };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
     let mut runs = Vec::new();
     let mut freq_hz = Vec::new();

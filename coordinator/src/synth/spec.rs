@@ -126,6 +126,10 @@ pub struct Truth {
     /// Rayleigh damping ratio on the first x and y modes.
     #[serde(default = "five_percent")]
     pub damping_ratio: f64,
+    /// The damping's share on the mass term (Rayleigh α and β scaled by
+    /// 2·share and 2·(1 − share); 0.5: the pair on the first x and y modes).
+    #[serde(default = "even_share")]
+    pub damping_mass_share: f64,
     /// Parameter values by name.
     #[serde(default)]
     pub parameters: BTreeMap<String, f64>,
@@ -133,12 +137,16 @@ pub struct Truth {
 
 impl Default for Truth {
     fn default() -> Self {
-        Truth { damping_ratio: 0.05, parameters: BTreeMap::new() }
+        Truth { damping_ratio: 0.05, damping_mass_share: even_share(), parameters: BTreeMap::new() }
     }
 }
 
 fn five_percent() -> f64 {
     0.05
+}
+
+fn even_share() -> f64 {
+    0.5
 }
 
 /// Strength of a hidden effect, set from the baseline's own demand.
@@ -303,6 +311,10 @@ impl SynthSpec {
         if !(self.truth.damping_ratio > 0.0 && self.truth.damping_ratio < 0.5) {
             let v = self.truth.damping_ratio.to_string();
             return Err(bad("truth.damping_ratio".into(), v, "0 < ratio < 0.5"));
+        }
+        if !(0.0..=1.0).contains(&self.truth.damping_mass_share) {
+            let v = self.truth.damping_mass_share.to_string();
+            return Err(bad("truth.damping_mass_share".into(), v, "0 <= share <= 1"));
         }
         Ok(())
     }

@@ -138,6 +138,10 @@ fn bad_campaigns_are_refused_with_the_key() {
         ),
         (SPEC.replace("seed = 3", "seed = 3\ncolour = 1"), "unknown field"),
         (
+            format!("{SPEC}\n[truth]\ndamping_mass_share = 1.5\n"),
+            "campaign.toml: truth.damping_mass_share = 1.5: 0 <= share <= 1",
+        ),
+        (
             format!("{SPEC}\n[hidden]\neffect = \"perimeter-pounding\"\n")
                 .replace("boundary = \"semi-free\"", "boundary = \"fixed\""),
             "hidden.effect = \"perimeter-pounding\": no grid end can slide on a \"fixed\" perimeter",
