@@ -5,7 +5,7 @@
 //! model itself evaluated. Every FE evaluation is kept (its channel fits) so
 //! that the likelihood can be re-weighted without re-running anything.
 
-use super::campaign_size::{campaign_work, is_large};
+use super::campaign_size::SizeTrims;
 use super::cause::{Cause, Demand, Prior};
 use super::damping_path::{DampingPath, DampingPathUse};
 use super::envelope::envelope_neg_log_lik;
@@ -47,6 +47,9 @@ pub struct Budget {
     /// When an extension with three or more parameters of its own also
     /// takes the lower-damping path ([`Search::damping_path`], ~50 FE runs).
     pub damping_path: DampingPathUse,
+    /// What the campaign's size trims ([`SizeTrims`]; none by default: a
+    /// diagnosis sets them from its bundle).
+    pub trims: SizeTrims,
 }
 
 impl Default for Budget {
@@ -62,6 +65,7 @@ impl Default for Budget {
             valley_walks: 0,
             refine_walks: 2,
             damping_path: DampingPathUse::WhenContending,
+            trims: SizeTrims::NONE,
         }
     }
 }
@@ -418,8 +422,6 @@ struct Course {
     design: usize,
     /// The FE runs of the stages after the design.
     stages: Stages,
-    /// The campaign's [`campaign_work`].
-    work: f64,
     /// The lowest −log L a variant calibrated before it reached (+∞: none).
     rival: f64,
     /// FE runs planned (the progress total; grows when a stage is added).
@@ -433,12 +435,11 @@ impl Course {
         let base = around.map(|a| a.base);
         let dims = Dims::of(ev.cause, ev.priors, base);
         let d = dims.explored.len();
-        let work = campaign_work(ev.bundle, ev.runs);
-        let stages = Stages::of(budget, base.is_some(), dims.own.len(), is_large(work));
+        let stages = Stages::of(budget, base.is_some(), dims.own.len());
         let design = budget.per_dim * d + budget.extra;
         let planned = std::cell::Cell::new(design + stages.runs(budget, d));
         let rival = around.map_or(f64::INFINITY, |a| a.rival);
-        Course { dims, extension: base.is_some(), design, stages, work, rival, planned }
+        Course { dims, extension: base.is_some(), design, stages, rival, planned }
     }
 
     /// Adds `runs` FE runs to those planned.
@@ -496,10 +497,10 @@ fn lower_damping_stage(
     progress: &mut dyn FnMut(usize),
 ) -> Result<SearchEnd, ExecutorError> {
     let n_eff = search.n_eff;
-    let (first_path, rival, work) = (point_value(cal, &end.0, n_eff), course.rival, course.work);
-    tracing::debug!(cause = cal.cause.as_str(), first_path, rival, work, "lower-damping path?");
+    let (first_path, rival) = (point_value(cal, &end.0, n_eff), course.rival);
+    tracing::debug!(cause = cal.cause.as_str(), first_path, rival, "lower-damping path?");
     let path_use = course.stages.damping_path;
-    if !path_use.takes(first_path, rival, work) {
+    if !path_use.takes(first_path, rival, &search.budget.trims) {
         return Ok(end);
     }
     let dims = &course.dims;
@@ -547,8 +548,8 @@ impl Stages {
     /// more: one coarse start, the other start's runs in emulator rounds,
     /// and a local search half as long again (five or more dimensions with a
     /// needle-sharp optimum: 24 runs are three Levenberg–Marquardt steps);
-    /// in a `large` campaign ([`super::campaign_size`]) neither.
-    fn of(budget: &Budget, extension: bool, own: usize, large: bool) -> Self {
+    /// in a large campaign ([`SizeTrims::long_search`] off) neither.
+    fn of(budget: &Budget, extension: bool, own: usize) -> Self {
         let plain = Stages {
             rounds: budget.rounds,
             coarse_starts: 0,
@@ -558,7 +559,7 @@ impl Stages {
         match (extension, own <= COARSE_MAX_DIMS) {
             (false, _) => plain,
             (true, true) => Stages { coarse_starts: COARSE_STARTS, ..plain },
-            (true, false) if large => {
+            (true, false) if !budget.trims.long_search => {
                 Stages { coarse_starts: 1, damping_path: budget.damping_path, ..plain }
             }
             (true, false) => Stages {
@@ -933,21 +934,20 @@ mod tests {
     #[test]
     fn an_extension_with_three_parameters_keeps_one_coarse_start_and_searches_longer() {
         let b = Budget::default();
-        let baseline = Stages::of(&b, false, 2, false);
+        let baseline = Stages::of(&b, false, 2);
         let never = DampingPathUse::Never;
         let plain =
             Stages { rounds: b.rounds, coarse_starts: 0, full: b.local, damping_path: never };
         assert_eq!(baseline, plain);
-        let two = Stages::of(&b, true, 2, false);
+        let two = Stages::of(&b, true, 2);
         assert_eq!(two, Stages { coarse_starts: COARSE_STARTS, ..baseline });
-        let three = Stages::of(&b, true, 3, false);
+        let three = Stages::of(&b, true, 3);
         assert_eq!(three.coarse_starts, 1);
         assert_eq!((three.damping_path, two.damping_path), (b.damping_path, never));
         let b = Budget { damping_path: never, ..b };
-        let three = Stages::of(&b, true, 3, false);
+        let three = Stages::of(&b, true, 3);
         let always = DampingPathUse::Always;
-        let with =
-            |b: &Budget, own| Stages::of(&Budget { damping_path: always, ..*b }, true, own, false);
+        let with = |b: &Budget, own| Stages::of(&Budget { damping_path: always, ..*b }, true, own);
         assert!(with(&b, 3).damping_path == always && with(&b, 2).damping_path == never);
         assert!(three.rounds > two.rounds && three.full > two.full, "{three:?}");
         // The second start's runs go to the rounds; the search grows by half.
@@ -957,20 +957,22 @@ mod tests {
         let path = b.per_dim * 4 + b.extra + b.rounds * b.per_round + b.local;
         assert_eq!(with(&b, 3).runs(&b, 3), two.runs(&b, 3) + b.local / 2 + path);
         // Rounds of 5 take 10 of the second start's 12 runs.
-        let five = Stages::of(&Budget { per_round: 5, ..b }, true, 3, false);
+        let five = Stages::of(&Budget { per_round: 5, ..b }, true, 3);
         assert_eq!(five.rounds, b.rounds + 2);
     }
 
     #[test]
     fn in_a_large_campaign_three_parameters_get_the_plain_stages_and_one_start() {
         let b = Budget::default();
-        let large = Stages::of(&b, true, 3, true);
-        let plain = Stages::of(&b, false, 3, true);
+        let trims = SizeTrims::for_work(2.0 * super::super::campaign_size::LARGE_WORK);
+        let l = Budget { trims, ..b };
+        let large = Stages::of(&l, true, 3);
+        let plain = Stages::of(&l, false, 3);
         assert_eq!(large, Stages { coarse_starts: 1, damping_path: b.damping_path, ..plain });
-        assert!(large.runs(&b, 3) + 24 == Stages::of(&b, true, 3, false).runs(&b, 3));
+        assert!(large.runs(&b, 3) + 24 == Stages::of(&b, true, 3).runs(&b, 3));
         // Two parameters and the baseline keep their stages.
-        assert_eq!(Stages::of(&b, true, 2, true), Stages::of(&b, true, 2, false));
-        assert_eq!(plain, Stages::of(&b, false, 3, false));
+        assert_eq!(Stages::of(&l, true, 2), Stages::of(&b, true, 2));
+        assert_eq!(plain, Stages::of(&b, false, 3));
     }
 
     proptest! {

@@ -16,7 +16,7 @@
 //! the same parameters, so the fit decides.
 
 use super::calibrate::{point_value, Budget, Calibration, Scale, Search};
-use super::campaign_size::{campaign_work, is_large};
+use super::campaign_size::SizeTrims;
 use super::cause::Cause;
 use super::executor::{ExecutorError, FeExecutor};
 use super::fit::Evaluation;
@@ -40,7 +40,7 @@ pub fn has_damped_nonlinear_springs(cause: Cause) -> bool {
 /// their prior mid-points (in the other form the estimate can sit at a
 /// prior's edge far from the twin's optimum: a connection's first force at
 /// the bottom where the twin's lay at 0.22 of 0.05..0.8); the Gauss–Newton
-/// matrix is the better end's. In a large campaign ([`is_large`]) both
+/// matrix is the better end's. In a large campaign ([`SizeTrims`]) both
 /// starts are run and only the better is searched ([`twin_starts`]). None
 /// when the extension has no damped nonlinear springs or no estimate.
 /// `progress` hears the FE points the searches have spent.
@@ -66,7 +66,7 @@ pub fn calibrate_committed_twin(
     let mut from_mid = from_estimate.clone();
     own.iter().for_each(|&i| from_mid[i] = 0.5);
     let mut starts = vec![from_estimate, from_mid];
-    if twin_starts(campaign_work(bundle, runs)) < starts.len() {
+    if twin_starts(&budget.trims) < starts.len() {
         search.evaluate_into(&mut twin, &starts, progress)?;
         starts = vec![better_start(&twin, starts, n_eff)];
     }
@@ -86,18 +86,14 @@ pub fn calibrate_committed_twin(
     Ok(Some(twin))
 }
 
-/// Starts the committed-tangent twin is searched from in a campaign of
-/// [`campaign_work`] `work`: both in a small campaign, the better of the
-/// two in a large one. On the double-layer size check with connection
-/// hysteresis hidden the twin's two searches had spent 350 of the
-/// diagnosis's 1290 worker seconds (4.2 s a run) and ended behind the
-/// named form.
-pub fn twin_starts(work: f64) -> usize {
-    if is_large(work) {
-        1
-    } else {
-        TWIN_STARTS
-    }
+/// Starts the committed-tangent twin is searched from in a campaign
+/// trimmed by `trims`: both in a small campaign, the better of the two in a
+/// large one ([`SizeTrims::twin_starts`]). On the double-layer size check
+/// with connection hysteresis hidden the twin's two searches had spent 350
+/// of the diagnosis's 1290 worker seconds (4.2 s a run) and ended behind
+/// the named form.
+pub fn twin_starts(trims: &SizeTrims) -> usize {
+    trims.twin_starts.map_or(TWIN_STARTS, |n| n.min(TWIN_STARTS))
 }
 
 /// Starts the twin may be searched from: the extension's estimate, and
@@ -167,8 +163,9 @@ mod tests {
             better_start(&twin, vec![starts[2].clone(), starts[0].clone()], &n_eff),
             starts[0]
         );
-        assert_eq!(twin_starts(crate::diagnose::campaign_size::LARGE_WORK), 2);
-        assert_eq!(twin_starts(2.0 * crate::diagnose::campaign_size::LARGE_WORK), 1);
+        let large = crate::diagnose::campaign_size::LARGE_WORK;
+        assert_eq!(twin_starts(&SizeTrims::for_work(large)), 2);
+        assert_eq!(twin_starts(&SizeTrims::for_work(2.0 * large)), 1);
     }
 
     #[test]

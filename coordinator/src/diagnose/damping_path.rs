@@ -13,7 +13,7 @@
 //! campaign that is not large ([`super::campaign_size::LARGE_WORK`]).
 
 use super::calibrate::{proposals, Budget, Calibration, Scale, Search, SearchEnd};
-use super::campaign_size::is_large;
+use super::campaign_size::SizeTrims;
 use super::executor::ExecutorError;
 use super::fit::DAMPING_RATIO;
 use crate::design::draw;
@@ -26,8 +26,8 @@ pub enum DampingPathUse {
     /// Never.
     Never,
     /// When its first path ended within [`CONTENTION_NATS`] of the lowest
-    /// −log L of the variants calibrated before it and the campaign's
-    /// [`super::campaign_size::campaign_work`] is at most [`super::campaign_size::LARGE_WORK`].
+    /// −log L of the variants calibrated before it and the campaign is not
+    /// large ([`SizeTrims::contending_damping_path`]).
     #[default]
     #[value(
         name = "auto",
@@ -49,12 +49,14 @@ pub const CONTENTION_NATS: f64 = 1000.0;
 impl DampingPathUse {
     /// Whether an extension whose first path reached −log L `own` takes
     /// the path, the best variant before it having reached `rival`, in a
-    /// campaign of [`super::campaign_size::campaign_work`] `work`.
-    pub fn takes(self, own: f64, rival: f64, work: f64) -> bool {
+    /// campaign trimmed by `trims`.
+    pub fn takes(self, own: f64, rival: f64, trims: &SizeTrims) -> bool {
         match self {
             DampingPathUse::Never => false,
             DampingPathUse::Always => true,
-            DampingPathUse::WhenContending => own <= rival + CONTENTION_NATS && !is_large(work),
+            DampingPathUse::WhenContending => {
+                own <= rival + CONTENTION_NATS && trims.contending_damping_path
+            }
         }
     }
 }
@@ -139,7 +141,7 @@ mod tests {
 
     #[test]
     fn the_path_is_taken_by_a_contending_extension_only() {
-        let (rival, small) = (-10_000.0, 72_000.0);
+        let (rival, small) = (-10_000.0, &SizeTrims::for_work(72_000.0));
         let auto = DampingPathUse::WhenContending;
         assert!(auto.takes(rival - 50.0, rival, small));
         assert!(auto.takes(rival + 0.5 * CONTENTION_NATS, rival, small));
@@ -153,9 +155,10 @@ mod tests {
     #[test]
     fn a_large_campaign_takes_the_path_only_when_asked() {
         let rival = -10_000.0;
-        let large = 2.0 * LARGE_WORK;
+        let large = &SizeTrims::for_work(2.0 * LARGE_WORK);
+        let small = &SizeTrims::for_work(LARGE_WORK);
         assert!(!DampingPathUse::WhenContending.takes(rival - 50.0, rival, large));
-        assert!(DampingPathUse::WhenContending.takes(rival - 50.0, rival, LARGE_WORK));
+        assert!(DampingPathUse::WhenContending.takes(rival - 50.0, rival, small));
         assert!(DampingPathUse::Always.takes(rival - 50.0, rival, large));
     }
 }

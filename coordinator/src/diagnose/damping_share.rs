@@ -56,21 +56,6 @@ pub const MASS_SHARE: Prior = Prior {
 /// runs (one linearisation over every parameter costs one run each).
 pub const SHARE_SEARCH_FACTOR: usize = 2;
 
-/// Largest [`campaign_work`](super::campaign_size::campaign_work) whose
-/// diagnosis searches the share: twice
-/// [`LARGE_WORK`](super::campaign_size::LARGE_WORK), so that a 4.8 m x
-/// 4.8 m double-layer ceiling calibrated on 8 and 12 s at 100 Hz (256 000)
-/// and a single-layer 3.6 m x 3.6 m one on two 30 s runs at 200 Hz
-/// (432 000) get it, and the 6 m x 4.8 m double-layer size check
-/// (1 920 000, about 3.3 s of a worker a point), near its 10 minutes,
-/// does not.
-pub const SHARE_MAX_WORK: f64 = 2.0 * super::campaign_size::LARGE_WORK;
-
-/// Whether a campaign of `work` searches the share.
-pub fn searches_share(work: f64) -> bool {
-    work <= SHARE_MAX_WORK
-}
-
 /// FE runs a twin's search may spend under `budget`.
 pub fn share_runs(budget: &Budget) -> usize {
     SHARE_SEARCH_FACTOR * budget.local
@@ -159,14 +144,6 @@ mod tests {
             gauss_newton: None,
             committed_share: 0.0,
         }
-    }
-
-    #[test]
-    fn the_size_check_does_not_search_the_share() {
-        use crate::diagnose::campaign_size::LARGE_WORK;
-        assert!(searches_share(LARGE_WORK * 1.024));
-        assert!(searches_share(432_000.0));
-        assert!(!searches_share(1_920_000.0));
     }
 
     #[test]

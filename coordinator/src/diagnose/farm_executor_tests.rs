@@ -42,6 +42,7 @@ pub(crate) fn tiny_options() -> DiagnoseOptions {
             valley_walks: 1,
             refine_walks: 1,
             damping_path: super::damping_path::DampingPathUse::Never,
+            trims: super::campaign_size::SizeTrims::NONE,
         },
         candidates: vec![Cause::NONE, Cause::PERIMETER_POUNDING, Cause::PERIMETER_FRICTION],
         linear_stage: false,

@@ -7,14 +7,14 @@
 //! validation runs.
 
 use super::calibrate::{calibrate, evaluate_points, Around, Budget, Calibration};
-use super::campaign_size::campaign_work;
+use super::campaign_size::SizeTrims;
 use super::cause::{baseline_priors, Cause, Demand, Prior};
 use super::channel_start::{search_seed_section, seed_section_start};
 use super::class_evidence::{EvidencePolicy, PeakResult};
 use super::class_odds::{self, class_odds, renormalise, ClassOdds};
 use super::class_search::{search_classes, Tried, Weighed};
 use super::damping_form::{calibrate_committed_twin, twin_starts, twin_wins, TWIN_STARTS};
-use super::damping_share::{calibrate_share_twin, searches_share, share_runs};
+use super::damping_share::{calibrate_share_twin, share_runs};
 use super::ensemble;
 use super::evidence::pga_g;
 use super::executor::{ExecutorError, FeExecutor, Sims, ThreadExecutor};
@@ -343,6 +343,9 @@ fn diagnose_stages(
     progress: &mut dyn FnMut(&str, usize, usize),
 ) -> Result<Diagnosis, DiagnoseError> {
     let (cal_runs, val_runs) = split_runs(b);
+    // What the campaign's size trims, decided here once for every stage.
+    let trims = SizeTrims::of(b, &cal_runs);
+    let opts = &DiagnoseOptions { budget: Budget { trims, ..opts.budget }, ..opts.clone() };
     let linear = fit_linear_form(b, &cal_runs, opts, progress)?;
     let held;
     let b = match &linear {
@@ -374,7 +377,7 @@ fn diagnose_stages(
     // The validation runs measure the verdict; they never choose it.
     let pick = select(&results, MISFIT_NATS);
     let by_classes = opts.rule == VerdictRule::Evidence && opts.evidence.is_some();
-    if (pick != 0 || by_classes) && searches_share(campaign_work(b, &cal_runs)) {
+    if (pick != 0 || by_classes) && trims.mass_share {
         let after = After { b, runs, n_eff: (&n_eff0, &n_eff), held: &held, opts };
         let replaced = if by_classes {
             after.shared_share(&mut v, exec, progress, &mut results)?
@@ -402,7 +405,7 @@ fn diagnose_stages(
     let pick = by_evidence.as_ref().map_or(pick, |o| o.top);
     results[pick].selected = true;
     progress("posterior (BBVI, checked by FE runs)", 0, 1);
-    let check = (opts.budget.seed, check_rounds(campaign_work(b, &cal_runs)));
+    let check = (opts.budget.seed, check_rounds(&trims));
     let data = (b, &cal_runs[..]);
     attach_posterior(&mut v.cals[pick], &mut results[pick], data, &n_eff, check, exec)?;
     progress("posterior (BBVI, checked by FE runs)", 1, 1);
@@ -862,7 +865,7 @@ impl After<'_> {
     /// gets ([`refine_walks`]).
     fn walks(&self, cal: &Calibration) -> (usize, usize) {
         let own = cal.own_parameters().len();
-        (own, refine_walks(&self.opts.budget, own, campaign_work(self.b, self.runs.0)))
+        (own, refine_walks(&self.opts.budget, own))
     }
 
     /// [`assess`] of `cal` with its linear part `part`.
@@ -1097,9 +1100,8 @@ impl After<'_> {
         let Named { cal, part } = named;
         let stage = format!("{} damped on the committed tangent", cal.cause.as_str());
         let (own, walks) = self.walks(cal);
-        let work = campaign_work(self.b, self.runs.0);
-        let (walks, starts) = (twin_walks(walks, work), twin_starts(work));
         let budget = &self.opts.budget;
+        let (walks, starts) = (twin_walks(walks, &budget.trims), twin_starts(&budget.trims));
         let refining = if walks > 0 { planned_runs(budget, walks, own) } else { 0 };
         let starts_run = if starts < TWIN_STARTS { TWIN_STARTS } else { 0 };
         let planned = starts * budget.local + starts_run + refining;

@@ -5,9 +5,9 @@
 //! have. So the FE model runs at q's mean and a few of its draws; where the
 //! emulated excess −log L misses the FE's by more than [`TOL_NATS`], those
 //! runs join the calibration's points (and so the GP's training set) and
-//! BBVI runs again, at most [`ROUNDS`] times ([`LARGE_ROUNDS`] in a large
-//! campaign). The posterior reported is the last one checked, with the gap
-//! measured at its own probes.
+//! BBVI runs again, at most [`ROUNDS`] times (fewer in a large campaign:
+//! [`super::campaign_size::LARGE_ROUNDS`]). The posterior reported is the
+//! last one checked, with the gap measured at its own probes.
 
 use super::calibrate::{evaluate_points, Calibration};
 use super::executor::{ExecutorError, FeExecutor};
@@ -16,22 +16,14 @@ use crate::bundle::Bundle;
 
 /// Rounds of FE checks (each [`super::posterior::PROBES`] FE points).
 pub const ROUNDS: usize = 3;
-/// Rounds of FE checks in a large campaign ([`super::campaign_size`]),
-/// whose FE runs are the slowest: on a 6 m x 4.8 m double-layer campaign
-/// with three 30 s runs at 200 Hz, three rounds took 54 of its 610 s and
-/// each ended 98 to 168 nats off.
-pub const LARGE_ROUNDS: usize = 1;
 /// Largest |FE − emulated| excess −log L at a probe for the emulator to
 /// stand (nats): e⁵ ≈ 150 in density.
 pub const TOL_NATS: f64 = 5.0;
 
-/// Rounds of FE checks of a campaign of [`super::campaign_size::campaign_work`] `work`.
-pub fn rounds(work: f64) -> usize {
-    if super::campaign_size::is_large(work) {
-        LARGE_ROUNDS
-    } else {
-        ROUNDS
-    }
+/// Rounds of FE checks of a campaign trimmed by `trims`
+/// ([`super::campaign_size::SizeTrims::check_rounds`]).
+pub fn rounds(trims: &super::campaign_size::SizeTrims) -> usize {
+    trims.check_rounds.map_or(ROUNDS, |n| n.min(ROUNDS))
 }
 
 /// The posterior of `cal` under weights `n_eff`, its emulator checked by
@@ -82,8 +74,9 @@ mod tests {
 
     #[test]
     fn a_large_campaign_checks_once() {
-        assert_eq!(rounds(1e5), ROUNDS);
-        assert_eq!(rounds(1e7), LARGE_ROUNDS);
+        use crate::diagnose::campaign_size::{SizeTrims, LARGE_ROUNDS};
+        assert_eq!(rounds(&SizeTrims::for_work(1e5)), ROUNDS);
+        assert_eq!(rounds(&SizeTrims::for_work(1e7)), LARGE_ROUNDS);
     }
 
     #[test]

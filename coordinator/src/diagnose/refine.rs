@@ -9,39 +9,42 @@
 //! parameters ([`super::ridge`]) and valley walks
 //! ([`Search::valley_walks`]); it is then assessed again.
 
-use super::calibrate::{Budget, Calibration, Scale, Search, COARSE_MAX_DIMS, SLOPPY_STEPS};
-use super::campaign_size::is_large;
+use super::calibrate::{Budget, Calibration, Scale, Search, SLOPPY_STEPS};
+use super::campaign_size::SizeTrims;
 use super::executor::{ExecutorError, FeExecutor};
 use super::fit::Evaluation;
 use crate::bundle::Bundle;
 
-/// Valley walks for a named extension with `own` parameters of its own in
-/// a campaign of FE work `work` ([`super::campaign_size`]): the budget's
-/// in a small campaign, at most one in a large one, none for a large one
-/// with more than [`COARSE_MAX_DIMS`] own parameters (each walk costs
-/// ~20 of its slowest FE runs) or for one parameter (its local search
-/// already spans it).
-pub fn refine_walks(budget: &Budget, own: usize, work: f64) -> usize {
-    match (own, is_large(work)) {
+/// Valley walks for a named extension with `own` parameters of its own
+/// under `budget` (its walks and its campaign's [`SizeTrims::refine`]):
+/// the budget's in a small campaign, at most one in a large one, none for
+/// a large one with more than [`LARGE_REFINED_OWN`] own parameters (each
+/// walk costs ~20 of its slowest FE runs) or for one parameter (its local
+/// search already spans it).
+///
+/// [`LARGE_REFINED_OWN`]: super::campaign_size::LARGE_REFINED_OWN
+pub fn refine_walks(budget: &Budget, own: usize) -> usize {
+    match (own, budget.trims.refine) {
         (0..=1, _) => 0,
-        (_, false) => budget.refine_walks,
-        (o, true) if o <= COARSE_MAX_DIMS => budget.refine_walks.min(1),
+        (_, None) => budget.refine_walks,
+        (o, Some((walks, max_own))) if o <= max_own => budget.refine_walks.min(walks),
         _ => 0,
     }
 }
 
 /// Valley walks for the committed-tangent twin ([`super::damping_form`])
 /// of a named extension refined with `walks` ([`refine_walks`]): as many
-/// in a small campaign; none in a large one, where the twin ends with its
-/// two local searches and is not refined. The double-layer size check's
-/// friction twin spent at least 78 of its 126 FE points on its ridge and
-/// valley walks and still ended 300 nats behind the named form, which it
-/// must beat by 50; without them the diagnosis took 551 s instead of 590 s.
-pub fn twin_walks(walks: usize, work: f64) -> usize {
-    if is_large(work) {
-        0
-    } else {
+/// in a small campaign; none in a large one ([`SizeTrims::twin_refined`]),
+/// where the twin ends with its two local searches and is not refined. The
+/// double-layer size check's friction twin spent at least 78 of its 126 FE
+/// points on its ridge and valley walks and still ended 300 nats behind
+/// the named form, which it must beat by 50; without them the diagnosis
+/// took 551 s instead of 590 s.
+pub fn twin_walks(walks: usize, trims: &SizeTrims) -> usize {
+    if trims.twin_refined {
         walks
+    } else {
+        0
     }
 }
 
@@ -121,26 +124,31 @@ mod tests {
 
     #[test]
     fn walks_by_campaign_size_and_own_parameters() {
-        let b = Budget { refine_walks: 2, ..Budget::default() };
-        let (small, large) = (LARGE_WORK, 2.0 * LARGE_WORK);
+        let at = |work: f64| Budget {
+            refine_walks: 2,
+            trims: SizeTrims::for_work(work),
+            ..Budget::default()
+        };
+        let (small, large) = (at(LARGE_WORK), at(2.0 * LARGE_WORK));
         // Friction and pounding (two own parameters), hysteresis (three).
-        assert_eq!(refine_walks(&b, 2, small), 2);
-        assert_eq!(refine_walks(&b, 3, small), 2);
-        assert_eq!(refine_walks(&b, 2, large), 1);
-        assert_eq!(refine_walks(&b, 3, large), 0);
+        assert_eq!(refine_walks(&small, 2), 2);
+        assert_eq!(refine_walks(&small, 3), 2);
+        assert_eq!(refine_walks(&large, 2), 1);
+        assert_eq!(refine_walks(&large, 3), 0);
         // One parameter: its local search already spans it.
-        assert_eq!(refine_walks(&b, 1, small), 0);
+        assert_eq!(refine_walks(&small, 1), 0);
         // The budget's zero turns refining off everywhere.
-        let off = Budget { refine_walks: 0, ..b };
-        assert_eq!(refine_walks(&off, 2, small) + refine_walks(&off, 2, large), 0);
+        let off = |b: Budget| Budget { refine_walks: 0, ..b };
+        assert_eq!(refine_walks(&off(small), 2) + refine_walks(&off(large), 2), 0);
     }
 
     #[test]
     fn the_twin_is_refined_as_the_named_extension_only_in_a_small_campaign() {
-        let (small, large) = (LARGE_WORK, 2.0 * LARGE_WORK);
-        assert_eq!(twin_walks(2, small), 2);
-        assert_eq!(twin_walks(0, small), 0);
-        assert_eq!(twin_walks(1, large), 0);
+        let (small, large) =
+            (SizeTrims::for_work(LARGE_WORK), SizeTrims::for_work(2.0 * LARGE_WORK));
+        assert_eq!(twin_walks(2, &small), 2);
+        assert_eq!(twin_walks(0, &small), 0);
+        assert_eq!(twin_walks(1, &large), 0);
     }
 
     #[test]
