@@ -358,6 +358,25 @@ pub struct Annealed {
     pub upper: Option<(f64, f64)>,
 }
 
+/// A value in nats and its standard error.
+pub type WithSd = (f64, f64);
+
+impl Annealed {
+    /// What bounds ln Z, each bound with its standard error: below and
+    /// above by the annealed estimate when β reached 1 (an estimate whose
+    /// error was too large to settle is still one: it bounds ln Z on both
+    /// sides, within its error, the estimate of an annealing that reached
+    /// +109.5 ± 1.01 nats over `none` would else not be weighed at all);
+    /// else by the bounds from the temperature reached (the upper one None
+    /// when unknown); None when neither is known.
+    pub fn range(&self) -> Option<(WithSd, Option<WithSd>)> {
+        match self.estimate {
+            Some(z) => Some((z, Some(z))),
+            None => self.lower.map(|l| (l, self.upper)),
+        }
+    }
+}
+
 /// Standard errors below a lower bound's estimate at which the bound is
 /// counted ([`ClassEvidence::counted_ln_evidence`]): 2, so that, its error
 /// being normal, the counted value lies below the bound with probability
@@ -366,28 +385,32 @@ pub const BOUND_SDS: f64 = 2.0;
 
 impl ClassEvidence {
     /// The ln Z at which the class is compared with others: the estimate
-    /// when it settled; else, when an annealing ran out of FE runs before
-    /// the FE posterior, its lower bound less [`BOUND_SDS`] standard
-    /// errors (a class whose evidence is known to be at least this much
-    /// is weighed at it: conservative for that class, never for its
-    /// rivals); None otherwise (an unsettled estimate is never compared).
+    /// when it settled; else its lower bound less [`BOUND_SDS`] standard
+    /// errors, the bound being, when an annealing reached the FE posterior
+    /// with an error above [`EvidencePolicy::anneal_sd_nats`], its
+    /// estimate, and when one ran out of FE runs before it, the bound from
+    /// the temperature reached (a class whose evidence is known to be at
+    /// least this much is weighed at it: conservative for that class,
+    /// never for its rivals); None otherwise (the rounds' unsettled
+    /// estimate is never compared).
     pub fn counted_ln_evidence(&self) -> Option<f64> {
         if self.converged {
             return Some(self.ln_evidence);
         }
-        let (bound, sd) = self.annealed.as_ref()?.lower?;
+        let (bound, sd) = self.annealed.as_ref()?.range()?.0;
         Some(bound - BOUND_SDS * sd).filter(|v| v.is_finite())
     }
 
     /// The most ln Z may be, for ordering classes: the estimate when it
-    /// settled; else, when an annealing ran out of FE runs, its upper
-    /// bound plus [`BOUND_SDS`] standard errors; None (no limit known)
+    /// settled; else its upper bound plus [`BOUND_SDS`] standard errors
+    /// (the annealed estimate when it reached the FE posterior, else the
+    /// bound from the temperature reached); None (no limit known)
     /// otherwise.
     pub fn ln_evidence_at_most(&self) -> Option<f64> {
         if self.converged {
             return Some(self.ln_evidence);
         }
-        let (bound, sd) = self.annealed.as_ref()?.upper?;
+        let (bound, sd) = self.annealed.as_ref()?.range()?.1?;
         Some(bound + BOUND_SDS * sd).filter(|v| v.is_finite())
     }
 }

@@ -97,7 +97,8 @@ pub fn renormalise<'o>(
 /// The unnormalised log-posterior of class `cause` (its counted
 /// log-evidence plus [`ln_prior`] under `effect_prior`): the estimate when
 /// it settled, a lower bound when an annealing ran out of FE runs before
-/// the FE posterior ([`ClassEvidence::counted_ln_evidence`]); None for an
+/// the FE posterior or reached it with too large an error
+/// ([`ClassEvidence::counted_ln_evidence`]); None for an
 /// evidence that neither settled nor is bounded: it is reported, never
 /// compared, and takes no share of the probability. A bounded class's
 /// probability so computed is a lower bound on its probability against
@@ -302,6 +303,38 @@ mod tests {
         assert!(odds[1].probability.is_nan());
         // A settled class is counted at its estimate, bound or not.
         assert_eq!(evidence(7.0, true, Some((1.0, 1.0))).evidence.counted_ln_evidence(), Some(7.0));
+    }
+
+    #[test]
+    fn an_annealing_that_reached_the_fe_posterior_counts_within_its_error() {
+        use super::super::class_evidence::Annealed;
+        // The annealing reached β = 1 at 109.5 ± 1.01, just above the
+        // 1-nat error that settles it: counted at 109.5 − 2.02, at most
+        // 109.5 + 2.02, so a settled class at 36.7 is ordered below it,
+        // and one at 108, counted above it, is not known to be above it.
+        let mut o = evidence(900.0, false, None);
+        o.evidence.annealed = Some(Annealed {
+            estimate: Some((109.5, 1.01)),
+            stages: 6,
+            fe_points: 600,
+            beta: 1.0,
+            lower: None,
+            upper: None,
+        });
+        let e = &o.evidence;
+        assert!((e.counted_ln_evidence().unwrap() - 107.48).abs() < 1e-12);
+        assert!((e.ln_evidence_at_most().unwrap() - 111.52).abs() < 1e-12);
+        let (pf, pfh) =
+            (Cause::PERIMETER_FRICTION.with(0), Cause::PERIMETER_FRICTION.with(0).with(2));
+        let low = evidence(36.7, true, None);
+        let r = |o: &ClassOdds, c| range(o, c, 0.5);
+        let top = order(&[r(&low, pf), r(&o, pfh)]).unwrap();
+        assert_eq!(top, Order { top: 1, rivals: vec![] });
+        let near = evidence(108.0, true, None);
+        let doubt = order(&[r(&near, pf), r(&o, pfh)]).unwrap();
+        assert_eq!(doubt, Order { top: 0, rivals: vec![1] });
+        // The search counts it too (it was not weighed at all before).
+        assert!(weighed(&o, pfh, 0.5).counted.is_some());
     }
 
     #[test]
