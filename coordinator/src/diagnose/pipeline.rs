@@ -1144,30 +1144,15 @@ impl After<'_> {
         progress: &mut dyn FnMut(&str, usize, usize),
         results: &mut [CandidateResult],
     ) -> Result<bool, DiagnoseError> {
-        let (b, runs, n_eff0, budget) = (self.b, self.runs.0, self.n_eff.0, &self.opts.budget);
         let mut replaced = false;
         for k in [0, pick] {
-            let stage = format!("{} with the damping's mass share", v.cals[k].cause.as_str());
-            let mut report = |d| progress(&stage, d, share_runs(budget));
-            let Some(twin) =
-                calibrate_share_twin(b, &v.cals[k], runs, n_eff0, budget, exec, &mut report)?
-            else {
-                continue;
-            };
-            let wins = twin_wins(&v.cals[k], &twin, n_eff0);
+            let Some(twin) = self.share_twin(v, k, exec, progress)? else { continue };
+            let wins = twin_wins(&v.cals[k], &twin, self.n_eff.0);
             let spent = results[k].fe_points + twin.fe_points();
             tracing::debug!(cause = v.cals[k].cause.as_str(), wins, "mass-share twin");
             if wins {
                 replaced = true;
-                if k == 0 {
-                    // The baseline's best point indexes the twin's points now.
-                    v.base_best = twin.best(n_eff0).unwrap_or(v.base_best);
-                }
-                v.cals[k] = twin;
-                results[k] = match k {
-                    0 => assess(b, &v.cals[0], self.n_eff.1, self.runs, &Held::none(), exec)?,
-                    _ => self.assess(&v.cals[k], v.linear_parts[k].as_ref(), exec)?,
-                };
+                self.adopt_twin(v, k, twin, results, exec)?;
             }
             results[k].fe_points = spent;
         }
@@ -1190,37 +1175,63 @@ impl After<'_> {
         progress: &mut dyn FnMut(&str, usize, usize),
         results: &mut [CandidateResult],
     ) -> Result<bool, DiagnoseError> {
-        let (b, runs, n_eff0, budget) = (self.b, self.runs.0, self.n_eff.0, &self.opts.budget);
         for k in 0..v.cals.len() {
-            let stage = format!("{} with the damping's mass share", v.cals[k].cause.as_str());
-            let mut report = |d| progress(&stage, d, share_runs(budget));
-            let Some(twin) =
-                calibrate_share_twin(b, &v.cals[k], runs, n_eff0, budget, exec, &mut report)?
-            else {
-                continue;
-            };
+            let Some(twin) = self.share_twin(v, k, exec, progress)? else { continue };
             let spent = results[k].fe_points + twin.fe_points();
             if k == 0 {
-                let wins = twin_wins(&v.cals[0], &twin, n_eff0);
+                let wins = twin_wins(&v.cals[0], &twin, self.n_eff.0);
                 tracing::debug!(wins, "the baseline's mass-share twin");
                 if !wins {
                     results[0].fe_points = spent;
                     return Ok(false);
                 }
-                let best = twin.best(n_eff0).ok_or_else(|| {
-                    DiagnoseError::Model("the baseline's mass-share twin has no best point".into())
-                })?;
-                v.base = (twin.points[best].u.clone(), twin.priors.clone(), v.base.2);
-                v.base_best = best;
-                v.cals[0] = twin;
-                results[0] = assess(b, &v.cals[0], self.n_eff.1, self.runs, &Held::none(), exec)?;
-            } else {
-                v.cals[k] = twin;
-                results[k] = self.assess(&v.cals[k], v.linear_parts[k].as_ref(), exec)?;
             }
+            self.adopt_twin(v, k, twin, results, exec)?;
             results[k].fe_points = spent;
         }
         Ok(true)
+    }
+
+    /// The mass-share twin of `v.cals[k]` ([`calibrate_share_twin`]), its
+    /// progress reported as a stage of its own.
+    fn share_twin(
+        &self,
+        v: &Variants,
+        k: usize,
+        exec: &mut dyn FeExecutor,
+        progress: &mut dyn FnMut(&str, usize, usize),
+    ) -> Result<Option<Calibration>, DiagnoseError> {
+        let (b, runs, n_eff0, budget) = (self.b, self.runs.0, self.n_eff.0, &self.opts.budget);
+        let stage = format!("{} with the damping's mass share", v.cals[k].cause.as_str());
+        let mut report = |d| progress(&stage, d, share_runs(budget));
+        Ok(calibrate_share_twin(b, &v.cals[k], runs, n_eff0, budget, exec, &mut report)?)
+    }
+
+    /// Replaces `v.cals[k]` by its `twin` and `results[k]` by the twin's
+    /// assessment (the baseline's with nothing held); the baseline's twin
+    /// also becomes what the classes of several effects are calibrated
+    /// around, its best point indexing its own points.
+    fn adopt_twin(
+        &self,
+        v: &mut Variants,
+        k: usize,
+        twin: Calibration,
+        results: &mut [CandidateResult],
+        exec: &mut dyn FeExecutor,
+    ) -> Result<(), DiagnoseError> {
+        if k == 0 {
+            let best = twin.best(self.n_eff.0).ok_or_else(|| {
+                DiagnoseError::Model("the baseline's mass-share twin has no best point".into())
+            })?;
+            v.base = (twin.points[best].u.clone(), twin.priors.clone(), v.base.2);
+            v.base_best = best;
+        }
+        v.cals[k] = twin;
+        results[k] = match k {
+            0 => assess(self.b, &v.cals[0], self.n_eff.1, self.runs, &Held::none(), exec)?,
+            _ => self.assess(&v.cals[k], v.linear_parts[k].as_ref(), exec)?,
+        };
+        Ok(())
     }
 }
 
