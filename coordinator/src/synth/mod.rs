@@ -253,7 +253,7 @@ fn truth_options(spec: &SynthSpec) -> SimOptions {
 
 /// Whether `share` is the seed's even split (left out of the answer).
 fn is_even_share(share: &f64) -> bool {
-    *share == 0.5
+    *share == crate::diagnose::damping_share::SEED_PAIR_SHARE
 }
 
 /// Mid-points of the variant's priors overridden by `truth.parameters`.

@@ -146,7 +146,7 @@ fn five_percent() -> f64 {
 }
 
 fn even_share() -> f64 {
-    0.5
+    crate::diagnose::damping_share::SEED_PAIR_SHARE
 }
 
 /// Strength of a hidden effect, set from the baseline's own demand.
