@@ -11,8 +11,9 @@ use super::fit::DAMPING_MASS_SHARE;
 use super::pipeline::{diagnose_with, Diagnosis};
 use crate::bundle::read_bundle;
 
-/// The tiny campaign damped at 8 % on the mass term alone, diagnosed under `rule`.
-fn diagnosed(rule: super::pipeline::VerdictRule) -> Diagnosis {
+/// The tiny campaign damped at 8 % on the mass term alone, diagnosed under
+/// the evidence's verdict ([`tiny_options`]).
+fn diagnosed() -> Diagnosis {
     let dir = tempfile::tempdir().unwrap();
     let spec = dir.path().join("campaign.toml");
     let damped =
@@ -22,8 +23,7 @@ fn diagnosed(rule: super::pipeline::VerdictRule) -> Diagnosis {
     let out = dir.path().join("bundle");
     crate::synth::synth_to_dir(&spec, &out, &dir.path().join("answer.json"), &mut |_| {}).unwrap();
     let b = read_bundle(&out).unwrap();
-    let opts = super::pipeline::DiagnoseOptions { rule, ..tiny_options() };
-    diagnose_with(&b, &opts, &mut ThreadExecutor::new(2), &mut |_, _, _| {}).unwrap()
+    diagnose_with(&b, &tiny_options(), &mut ThreadExecutor::new(2), &mut |_, _, _| {}).unwrap()
 }
 
 /// Whether candidate `k` calibrates the mass share.
@@ -33,7 +33,7 @@ fn frees_share(d: &Diagnosis, k: usize) -> bool {
 
 #[test]
 fn every_class_carries_the_baselines_mass_share() {
-    let d = diagnosed(super::pipeline::VerdictRule::Evidence);
+    let d = diagnosed();
     let classes: Vec<(&str, bool)> = (0..d.candidates.len())
         .map(|k| (d.candidates[k].cause.as_str(), frees_share(&d, k)))
         .collect();
