@@ -52,6 +52,10 @@ pub const CJS_A_RELOAD_FORCE: f64 = 0.2;
 /// Pinching4 uForce of the seed's CJS-A set (Table 5.4), both sides.
 pub const CJS_A_UNLOAD_FORCE: f64 = -0.01;
 
+/// The CJS-A backbone's first slope in compression (200 N at 0.5 mm) over
+/// its first slope in tension (150 N at 0.5 mm), Table 5.4.
+pub const CJS_A_COMPRESSION_RATIO: f64 = 4.0 / 3.0;
+
 /// The seed's CJS-A Pinching4 set (Table 5.4) with forces times
 /// `force_scale` and deformations times `disp_scale`.
 pub fn cjs_a(force_scale: f64, disp_scale: f64) -> Pinching4Spec {
@@ -79,6 +83,15 @@ pub fn cjs_a(force_scale: f64, disp_scale: f64) -> Pinching4Spec {
     }
 }
 
+/// Moves the first compression deformation of `set` so that its first
+/// slope in compression is `ratio` times its first slope in tension; every
+/// other backbone point stays. (Table 5.4's own numbers are kept untouched
+/// at [`CJS_A_COMPRESSION_RATIO`], which this rebuilds to round-off.)
+pub fn set_compression_ratio(set: &mut Pinching4Spec, ratio: f64) {
+    let tension_n_per_mm = set.ePf[0] / set.ePd[0];
+    set.eNd[0] = set.eNf[0] / (ratio * tension_n_per_mm);
+}
+
 /// Material ids of the connection springs.
 struct Mats {
     axial: u64,
@@ -104,6 +117,10 @@ fn materials(spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Mats {
             (set.rForceP, set.rForceN) = (reload, reload);
             let unload = CJS_A_UNLOAD_FORCE + p.value_or_midpoint("conn_unload_shift");
             (set.uForceP, set.uForceN) = (unload, unload);
+            let ratio = p.value_or_midpoint("conn_compression_ratio");
+            if ratio != CJS_A_COMPRESSION_RATIO {
+                set_compression_ratio(&mut set, ratio);
+            }
             MaterialSpec::Pinching4(Box::new(set))
         }
         _ => MaterialSpec::Elastic { k: p.value_or_midpoint("K_cc1") },

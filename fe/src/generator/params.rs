@@ -12,6 +12,7 @@
 
 use std::collections::BTreeMap;
 
+use super::connections::CJS_A_COMPRESSION_RATIO;
 use super::spec::{CeilingSpec, Connections};
 
 /// The values a parameter may take.
@@ -124,6 +125,12 @@ pub const PARAMETERS: [ParamInfo; 15] = [
 ///   uForce (−0.01) on both sides (the force left on unloading over the
 ///   monotonic strength; larger: fuller loops); Table 5.5's connection
 ///   kinds range from −0.3 (JAC) to −0.01;
+/// - `conn_compression_ratio` U(0.5, 2), [`CJS_A_COMPRESSION_RATIO`] unless
+///   given: the backbone's first slope in compression over its first slope
+///   in tension (Table 5.4: 200 N at 0.5 mm against 150 N at 0.5 mm, 4/3),
+///   set by moving the first compression deformation alone; 1 makes the
+///   joint below its first backbone point the elastic K_cc1 spring in both
+///   directions;
 /// - `channel_mass_kg_per_m` U(0, 4.5) kg/m, 0 unless given: the carrying
 ///   channels of a double-layer ceiling, which run along x through every
 ///   row of rods above the grid, as mass shared among the row's rod nodes
@@ -133,7 +140,7 @@ pub const PARAMETERS: [ParamInfo; 15] = [
 ///   seed's U50x15x1 section (A 70 mm², Iy 2.9e4 mm⁴, Iz 1.6e3 mm⁴, J 27 mm⁴,
 ///   web vertical) on the tees' E and G: 1 joins them rigidly to the main
 ///   tees, less stands for the clips' give.
-pub const EXTENSIONS: [ParamInfo; 11] = [
+pub const EXTENSIONS: [ParamInfo; 12] = [
     p("friction_fy_N", "N", 0.5, 3.5, true),
     ParamInfo { domain: Domain::Fraction, ..p("friction_b", "-", 0.0, 0.1, true) },
     p("gap_ratio", "-", 0.5, 1.5, true),
@@ -143,6 +150,10 @@ pub const EXTENSIONS: [ParamInfo; 11] = [
     p("conn_disp_scale", "-", 0.5, 1.5, true),
     ParamInfo { domain: Domain::Fraction, ..p("conn_reload_force", "-", 0.1, 0.3, true) },
     ParamInfo { domain: Domain::SignedRatio, ..p("conn_unload_shift", "-", -0.3, 0.3, true) },
+    ParamInfo {
+        default: Some(CJS_A_COMPRESSION_RATIO),
+        ..p("conn_compression_ratio", "-", 0.5, 2.0, true)
+    },
     ParamInfo {
         domain: Domain::NonNegative,
         default: Some(0.0),
@@ -212,9 +223,11 @@ fn needs(name: &str) -> &'static str {
         "gap_ratio" | "impact_factor" | "gap_spread" => {
             "it needs perimeter = \"pounding\" or \"friction-pounding\""
         }
-        "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" | "conn_unload_shift" => {
-            "it needs connections = \"pinching4\""
-        }
+        "conn_force_scale"
+        | "conn_disp_scale"
+        | "conn_reload_force"
+        | "conn_unload_shift"
+        | "conn_compression_ratio" => "it needs connections = \"pinching4\"",
         "channel_mass_kg_per_m" | "channel_beam_factor" => {
             "it needs layers = 2 (carrying channels above the grid)"
         }
@@ -234,9 +247,11 @@ pub fn parameters_for(spec: &CeilingSpec) -> Vec<ParamInfo> {
         "K_cc2" | "K_cc3" | "K_mc" => conn != Connections::Rigid,
         "friction_fy_N" | "friction_b" => m.perimeter.has_friction(),
         "gap_ratio" | "impact_factor" | "gap_spread" => m.perimeter.has_pounding(),
-        "conn_force_scale" | "conn_disp_scale" | "conn_reload_force" | "conn_unload_shift" => {
-            conn == Connections::Pinching4
-        }
+        "conn_force_scale"
+        | "conn_disp_scale"
+        | "conn_reload_force"
+        | "conn_unload_shift"
+        | "conn_compression_ratio" => conn == Connections::Pinching4,
         "channel_mass_kg_per_m" | "channel_beam_factor" => spec.structure.layers == 2,
         "K_joint_rot" => conn != Connections::Rigid,
         _ => true,

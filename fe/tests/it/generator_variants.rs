@@ -175,6 +175,7 @@ fn parameter_sets_follow_the_variant() {
         "conn_disp_scale",
         "conn_reload_force",
         "conn_unload_shift",
+        "conn_compression_ratio",
     ]);
     let mut with_joints = with_channels(expected);
     with_joints.push("K_joint_rot");
@@ -386,6 +387,43 @@ fn pinching4_connection_starts_at_300_n_per_mm_scaled() {
         let (f, k) = mat.trial(d).unwrap();
         assert!((k - slope).abs() < 1e-12 * slope, "tangent {k} at {d} mm, expected {slope}");
         assert!((f - (u * k_max + slope * (d - u))).abs() < 1e-9, "force {f} at {d} mm");
+    }
+}
+
+/// A Pinching4 joint whose first slope is K_cc1 in both directions
+/// (`conn_compression_ratio` 1) and whose first backbone point lies beyond
+/// anything the sweep asks is the elastic joint: the same frequencies and,
+/// over 2 s of the sweep at 0.3 g, the same history. With Table 5.4's
+/// compression slope (4/3 of the tension one) it is not.
+#[test]
+fn symmetric_pinching4_joint_below_its_first_point_is_the_elastic_joint() {
+    let elastic = specimen(2.4, 2.4, Perimeter::Linear, Connections::Elastic);
+    let pinching = specimen(2.4, 2.4, Perimeter::Linear, Connections::Pinching4);
+    let p_el = Parameters::prior_midpoints_for(&elastic);
+    let k_cc1 = p_el.value_or_midpoint("K_cc1");
+    let force_scale = 100.0; // first backbone point at 15 kN
+    let mut p = Parameters::prior_midpoints_for(&pinching);
+    p.set("conn_force_scale", force_scale).unwrap();
+    p.set("conn_disp_scale", 300.0 * force_scale / k_cc1).unwrap();
+    let m_el = generate(&elastic, &p_el).unwrap();
+    let m_cjs = generate(&pinching, &p).unwrap();
+    p.set("conn_compression_ratio", 1.0).unwrap();
+    let m_sym = generate(&pinching, &p).unwrap();
+    let (f_el, f_sym, f_cjs) =
+        (frequencies(&m_el, 6), frequencies(&m_sym, 6), frequencies(&m_cjs, 6));
+    for (a, b) in f_el.iter().zip(&f_sym) {
+        assert!((a - b).abs() <= 1e-9 * a, "elastic {a} Hz, symmetric Pinching4 {b} Hz");
+    }
+    let moved = f_el.iter().zip(&f_cjs).map(|(a, b)| (b - a).abs() / a).fold(0.0, f64::max);
+    assert!(moved > 1e-4, "Table 5.4's stiffer compression side moves a mode: {moved}");
+    let h_el = run(&with_sweep(m_el.clone(), 0.3, 0.005, 400, recorders(&m_el)));
+    let h_sym = run(&with_sweep(m_sym.clone(), 0.3, 0.005, 400, recorders(&m_sym)));
+    let peak = h_el.rows.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
+    assert!(peak > 0.01, "the grid moves: {peak} mm");
+    for (a, b) in h_el.rows.iter().zip(&h_sym.rows) {
+        for (x, y) in a.iter().zip(b) {
+            assert!((x - y).abs() <= 1e-9 * (1.0 + peak), "{x} vs {y}");
+        }
     }
 }
 
