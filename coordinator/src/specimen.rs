@@ -38,6 +38,7 @@ pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec
             boundary: s.boundary,
             nominal_gap_mm: gap,
             lines_from_origin: true,
+            wall_members: s.wall_members,
         },
         model,
     };

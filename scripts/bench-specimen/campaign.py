@@ -471,7 +471,8 @@ def main():
              f"description = \"bench-specimen second truth family, seed {a.seed}: three sine sweeps in {dirs}\"", "",
              "[structure]", f"length_x_m = {lx}", f"length_y_m = {ly}", "module_m = 0.6", "main_tee_spacing_m = 1.2",
              "hanger_spacing_m = 1.2", "hanger_length_m = 1.0", "panel_mass_kg = 1.2", "layers = 1",
-             "boundary = \"semi-free\"", f"nominal_gap_mm = {nominal_gap}", ""]
+             "boundary = \"semi-free\"", f"nominal_gap_mm = {nominal_gap}",
+             "wall_members = true  # main tees on x = 0 (and x = Lx on the 1.2 m lines), cross tees on y = 0, Ly", ""]
         for sen in sensors:
             L += ["[[sensors]]", f"id = \"{sen['id']}\"", f"kind = \"{sen['kind']}\"", f"x_m = {sen['x_m']}",
                   f"y_m = {sen['y_m']}", f"direction = \"{sen['direction']}\"", f"units = \"{sen['units']}\"", ""]

@@ -37,6 +37,12 @@ pub struct Structure {
     /// Gap from grid end to wall angle, mm (not for `fixed`).
     #[serde(default)]
     pub nominal_gap_mm: Option<f64>,
+    /// Whether members lie on the wall lines: a main tee on a wall at
+    /// x = 0 or x = Lx that falls on the main-tee lines (hung on rods) and
+    /// cross tees along y = 0 and y = Ly; false (the default): the grid's
+    /// outermost members are one module in and its ends rest on the walls.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub wall_members: bool,
 }
 
 fn two() -> u8 {

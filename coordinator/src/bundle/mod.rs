@@ -110,7 +110,7 @@ impl Bundle {
         let m = &self.manifest;
         let s = &m.structure;
         let mut out = format!(
-            "bundle {} ({}):\n  specimen {} m x {} m, module {} m, {} layer(s), boundary {}, gap {}\n  {} sensors:",
+            "bundle {} ({}):\n  specimen {} m x {} m, module {} m, {} layer(s), boundary {}, gap {}{}\n  {} sensors:",
             m.name,
             self.dir.display(),
             s.length_x_m,
@@ -119,6 +119,7 @@ impl Bundle {
             s.layers,
             s.boundary.as_str(),
             s.nominal_gap_mm.map(|g| format!("{g} mm")).unwrap_or_else(|| "none".into()),
+            if s.wall_members { ", members on the wall lines" } else { "" },
             m.sensors.len(),
         );
         for sensor in &m.sensors {

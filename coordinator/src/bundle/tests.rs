@@ -105,6 +105,33 @@ fn written_bundle_reads_back_identically() {
     }
 }
 
+/// `wall_members` is optional (false), read when given, written back only
+/// when true, named in the summary, and refused with its key when not a
+/// boolean.
+#[test]
+fn wall_members_are_read_and_written_back() {
+    let plain = read_bundle(make(TOML, RUN).path()).unwrap();
+    assert!(!plain.manifest.structure.wall_members);
+    assert!(!plain.summary().contains("wall lines"));
+    let toml = TOML.replace("nominal_gap_mm = 19.0", "nominal_gap_mm = 19.0\nwall_members = true");
+    let dir = make(&toml, RUN);
+    let b = read_bundle(dir.path()).unwrap();
+    assert!(b.manifest.structure.wall_members);
+    assert!(b.summary().contains("gap 19 mm, members on the wall lines"), "{}", b.summary());
+    let spec = crate::specimen::fe_spec(&b.manifest.structure, Default::default()).unwrap();
+    assert!(spec.structure.wall_members);
+    let out = tempfile::tempdir().unwrap();
+    write_bundle(&b, out.path()).unwrap();
+    assert_eq!(read_bundle(out.path()).unwrap().manifest, b.manifest);
+    let written = |d: &Path| std::fs::read_to_string(d.join("bundle.toml")).unwrap();
+    assert!(written(out.path()).contains("wall_members = true"));
+    let plain_out = tempfile::tempdir().unwrap();
+    write_bundle(&plain, plain_out.path()).unwrap();
+    assert!(!written(plain_out.path()).contains("wall_members"));
+    let e = refused(&toml.replace("wall_members = true", "wall_members = \"yes\""), RUN);
+    assert!(e.contains("bundle.toml") && e.contains("wall_members"), "{e}");
+}
+
 #[test]
 fn wrong_format_is_refused() {
     let e = refused(&TOML.replace("ceiling-measured/1", "ceiling-measured/2"), RUN);

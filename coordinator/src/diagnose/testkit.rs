@@ -18,6 +18,7 @@ pub fn square_structure(side_m: f64, nominal_gap_mm: f64) -> crate::bundle::Stru
         layers: 1,
         boundary: crate::bundle::Boundary::SemiFree,
         nominal_gap_mm: Some(nominal_gap_mm),
+        wall_members: false,
     }
 }
 

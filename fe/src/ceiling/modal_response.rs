@@ -325,6 +325,7 @@ mod tests {
                 boundary: Boundary::SemiFree,
                 nominal_gap_mm: 19.0,
                 lines_from_origin: true,
+                wall_members: false,
             },
             model: ModelOptions::default(),
         };

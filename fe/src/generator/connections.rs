@@ -167,24 +167,34 @@ struct Joint {
     xyz_mm: [f64; 3],
 }
 
-/// Every connection of the grid, in a fixed order (by grid node, then kind).
+/// Every connection of the grid, in a fixed order (by grid node, then kind):
+/// where a y-line's member crosses a row's cross tee, the cross tee's
+/// pieces end at a main tee and a sub cross tee's pieces end at the cross
+/// tee (a piece on each side the grid goes on; one on a wall line), and a
+/// main tee between the walls is spliced every [`MAIN_TEE_PIECE_MM`].
 fn joints(g: &Grid) -> Vec<Joint> {
     let mut out = vec![];
-    for j in 1..g.ny {
-        for i in 1..g.nx {
+    let rows = g.cross_rows();
+    for j in rows.iter().copied() {
+        for i in g.y_line_columns() {
             let grid = g.id(i, j);
             let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, 0.0];
-            let (member, axis) = match g.y_line(i) {
-                Member::Main => (Member::Cross, 1),
-                _ => (Member::Sub, 2),
+            let (member, axis, before, after) = match g.y_line(i) {
+                Member::Main => (Member::Cross, 1, i > 0, i < g.nx),
+                _ => (Member::Sub, 2, j > 0, j < g.ny),
             };
-            for (after, base) in [(false, 300000), (true, 400000)] {
-                let piece = base + grid;
-                out.push(Joint { grid, piece, axis, after, member, splice: false, xyz_mm });
+            for (is_after, base) in [(false, 300000), (true, 400000)] {
+                if (is_after && after) || (!is_after && before) {
+                    let piece = base + grid;
+                    let splice = false;
+                    out.push(Joint { grid, piece, axis, after: is_after, member, splice, xyz_mm });
+                }
             }
             let y_mm = j as f64 * g.module_mm;
             let k = (y_mm / MAIN_TEE_PIECE_MM).round();
-            if g.y_line(i) == Member::Main && (y_mm - k * MAIN_TEE_PIECE_MM).abs() < 1e-6 {
+            let inside = j > 0 && j < g.ny;
+            if g.y_line(i) == Member::Main && inside && (y_mm - k * MAIN_TEE_PIECE_MM).abs() < 1e-6
+            {
                 let piece = 500000 + grid;
                 let member = Member::Main;
                 out.push(Joint { grid, piece, axis: 2, after: true, member, splice: true, xyz_mm });

@@ -1,6 +1,7 @@
-//! The grid builder: nodes on the module grid (room corners dropped), main
-//! tees and sub cross tees along y, cross tees along x, hanger rods fixed at
-//! the top, the semi-free perimeter ([`super::perimeter`]), the grid
+//! The grid builder: nodes on the module grid (room corners dropped unless
+//! members lie on the walls), main tees and sub cross tees along y, cross
+//! tees along x (on the wall lines too with `wall_members`), hanger rods
+//! fixed at the top, the semi-free perimeter ([`super::perimeter`]), the grid
 //! connections ([`super::connections`], none when rigid) and panel masses
 //! lumped a quarter to each panel corner.
 //!
@@ -78,6 +79,8 @@ pub(super) struct Grid {
     /// Column of the first main tee and row of the first rods, modulo
     /// their spacing (0: lines from the origin; 1: one module in).
     phase: usize,
+    /// Whether members lie on the wall lines ([`super::spec::Structure::wall_members`]).
+    pub(super) wall_members: bool,
 }
 
 impl Grid {
@@ -88,9 +91,24 @@ impl Grid {
     fn exists(&self, i: usize, j: usize) -> bool {
         let edge_x = i == 0 || i == self.nx;
         let edge_y = j == 0 || j == self.ny;
-        !(edge_x && edge_y)
+        self.wall_members || !(edge_x && edge_y)
     }
-    /// The member along y-line i (1 <= i < nx).
+    /// Whether a member runs along y-line i (0 <= i <= nx): every line
+    /// between the walls; a wall's line when members lie on the walls and
+    /// it is a main-tee line.
+    pub(super) fn has_y_line(&self, i: usize) -> bool {
+        let wall = i == 0 || i == self.nx;
+        !wall || (self.wall_members && self.y_line(i) == Member::Main)
+    }
+    /// The y-lines that carry a member, ascending.
+    pub(super) fn y_line_columns(&self) -> Vec<usize> {
+        (0..=self.nx).filter(|&i| self.has_y_line(i)).collect()
+    }
+    /// The rows (0 <= j <= ny) that carry a cross tee, ascending.
+    pub(super) fn cross_rows(&self) -> Vec<usize> {
+        (0..=self.ny).filter(|&j| (j != 0 && j != self.ny) || self.wall_members).collect()
+    }
+    /// The member along y-line i, if it carries one ([`Grid::has_y_line`]).
     pub(super) fn y_line(&self, i: usize) -> Member {
         if (i + self.main_every - self.phase).is_multiple_of(self.main_every) {
             Member::Main
@@ -116,6 +134,7 @@ pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, Genera
         main_every: ratio(s.main_tee_spacing_m).max(1),
         rod_every: ratio(s.hanger_spacing_m).max(1),
         phase: usize::from(!s.lines_from_origin),
+        wall_members: s.wall_members,
     };
     let mut m = empty(spec);
     grid_nodes(&g, &mut m);
@@ -229,7 +248,7 @@ fn push_beam(
 }
 
 fn y_lines(g: &Grid, p: &Parameters, m: &mut Model) {
-    for i in 1..g.nx {
+    for i in g.y_line_columns() {
         let member = g.y_line(i);
         for j in 0..g.ny {
             push_beam(
@@ -246,7 +265,7 @@ fn y_lines(g: &Grid, p: &Parameters, m: &mut Model) {
 }
 
 fn cross_tees(g: &Grid, p: &Parameters, m: &mut Model) {
-    for j in 1..g.ny {
+    for j in g.cross_rows() {
         for i in 0..g.nx {
             let sec = section(Member::Cross, p);
             push_beam(m, g.id(i, j), g.id(i + 1, j), sec, p, [0.0, 0.0, 1.0], "cross_tee");
@@ -260,7 +279,7 @@ fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> Vec<Node> {
         area * area / (4.0 * std::f64::consts::PI) * p.value_or_midpoint("rod_bending_factor");
     let sec = [area, 2.0 * i_mm4, i_mm4, i_mm4];
     let mut tops = vec![];
-    for i in (1..g.nx).filter(|i| g.y_line(*i) == Member::Main) {
+    for i in g.y_line_columns().into_iter().filter(|i| g.y_line(*i) == Member::Main) {
         for j in (1..g.ny).filter(|j| (j + g.rod_every - g.phase).is_multiple_of(g.rod_every)) {
             let id = g.id(i, j);
             let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, length_mm];
@@ -334,7 +353,7 @@ fn member_masses(g: &Grid, rod_tops: &[Node], factor: f64, m: &mut Model) {
         Some(x) => x.m_t.iter_mut().take(3).for_each(|v| *v += t),
         None => m.masses.push(Mass { node, m_t: [t, t, t, 0.0, 0.0, 0.0] }),
     };
-    for i in 1..g.nx {
+    for i in g.y_line_columns() {
         let t = 0.5 * factor * segment_t(g.y_line(i));
         for j in 0..g.ny {
             add(g.id(i, j), t);
@@ -342,7 +361,7 @@ fn member_masses(g: &Grid, rod_tops: &[Node], factor: f64, m: &mut Model) {
         }
     }
     let t = 0.5 * factor * segment_t(Member::Cross);
-    for j in 1..g.ny {
+    for j in g.cross_rows() {
         for i in 0..g.nx {
             add(g.id(i, j), t);
             add(g.id(i + 1, j), t);
@@ -404,7 +423,7 @@ fn meta(spec: &CeilingSpec, p: &Parameters, g: &Grid, m: &Model) -> serde_json::
         (super::spec::Perimeter::FrictionPounding, super::spec::Connections::Rigid) => "nonlinear",
         _ => "extended",
     };
-    json!({
+    let mut meta = json!({
         "generator": "ceilfarm fe mesh",
         "Lx": g.nx as f64 * g.module_mm, "Ly": g.ny as f64 * g.module_mm, "module": g.module_mm,
         "nx_modules": g.nx, "ny_modules": g.ny,
@@ -417,5 +436,9 @@ fn meta(spec: &CeilingSpec, p: &Parameters, g: &Grid, m: &Model) -> serde_json::
         "n_nodes": m.nodes.len(), "n_beams": m.beams.len(), "n_springs": m.springs.len(),
         "mass_total_t": m.masses.iter().map(|x| x.m_t[0]).sum::<f64>(),
         "notes": notes,
-    })
+    });
+    if g.wall_members {
+        meta["wall_members"] = json!(true);
+    }
+    meta
 }

@@ -78,8 +78,10 @@ fn gap_offset(p: usize, n: usize) -> f64 {
 /// The offset q of a grid end's gap along its wall ([`gap_offsets`]).
 fn end_offset(g: &Grid, end: &End) -> f64 {
     let (i, j, _, _, side, _) = *end;
-    let (pos, n) = if side.starts_with('y') { (i - 1, g.nx - 1) } else { (j - 1, g.ny - 1) };
-    gap_offset(pos, n)
+    let (at, along) =
+        if side.starts_with('y') { (i, g.y_line_columns()) } else { (j, g.cross_rows()) };
+    let pos = along.iter().position(|&k| k == at).unwrap_or(0);
+    gap_offset(pos, along.len())
 }
 
 /// The id of the Gap material `base` with its gap times `factor`: `base`
@@ -107,11 +109,16 @@ type End = (usize, usize, u8, bool, &'static str, Member);
 fn ends(g: &Grid) -> Vec<End> {
     let mut ends = vec![];
     for (j, side, wall_first) in [(0, "y0", true), (g.ny, "y1", false)] {
-        ends.extend((1..g.nx).map(|i| (i, j, 2u8, wall_first, side, g.y_line(i))));
+        ends.extend(
+            g.y_line_columns().into_iter().map(|i| (i, j, 2u8, wall_first, side, g.y_line(i))),
+        );
     }
     for (i, side, wall_first) in [(0, "x0", true), (g.nx, "x1", false)] {
-        ends.extend((1..g.ny).map(|j| (i, j, 1u8, wall_first, side, Member::Cross)));
+        ends.extend(
+            g.cross_rows().into_iter().map(|j| (i, j, 1u8, wall_first, side, Member::Cross)),
+        );
     }
+    // Stable: a corner of members on the walls keeps its y-wall end first.
     ends.sort_by_key(|e| g.id(e.0, e.1));
     ends
 }
@@ -166,7 +173,10 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
         let grid = g.id(i, j);
         let wall = 100000 + grid;
         let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, 0.0];
-        walls.push(Node { id: wall, xyz_mm });
+        // A corner's two ends (members on the walls) share its wall node.
+        if walls.last().is_none_or(|n: &Node| n.id != wall) {
+            walls.push(Node { id: wall, xyz_mm });
+        }
         let (a, b) = if wall_first { (wall, grid) } else { (grid, wall) };
         let factor = 1.0 + spread * end_offset(g, &end);
         let gap_mat = per.has_pounding().then(|| scaled_gap(m, first_gap + member.index(), factor));

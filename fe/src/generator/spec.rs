@@ -167,6 +167,13 @@ pub struct Structure {
     /// main tee and the first row of rods one module from the walls.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub lines_from_origin: bool,
+    /// Members lie on the wall lines: a main tee on a wall x = 0 or x = Lx
+    /// that falls on the main-tee lines, hung on rods like the others, and
+    /// cross tees along y = 0 and y = Ly (so the corners are grid nodes),
+    /// every node on a wall still held by that wall's perimeter springs;
+    /// false (the default): the lines on a wall are the wall's.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub wall_members: bool,
 }
 
 fn two() -> u8 {

@@ -20,6 +20,7 @@ pub fn type_c_structure(lx_m: f64, ly_m: f64) -> Structure {
         boundary: Boundary::SemiFree,
         nominal_gap_mm: 19.0,
         lines_from_origin: false,
+        wall_members: false,
     }
 }
 

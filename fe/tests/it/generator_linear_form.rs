@@ -25,6 +25,7 @@ fn spec(connections: Connections, lines_from_origin: bool) -> CeilingSpec {
             boundary: Boundary::SemiFree,
             nominal_gap_mm: 19.0,
             lines_from_origin,
+            wall_members: false,
         },
         model: ModelOptions { perimeter: Perimeter::Linear, connections },
     }

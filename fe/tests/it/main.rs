@@ -9,6 +9,7 @@ mod generator_boundaries;
 mod generator_linear_form;
 mod generator_type_c;
 mod generator_variants;
+mod generator_wall_members;
 mod materials_driver;
 mod materials_fixtures;
 mod materials_opensees_extra;
