@@ -39,6 +39,7 @@ pub fn fe_spec(s: &bundle::Structure, model: ModelOptions) -> Result<CeilingSpec
             nominal_gap_mm: gap,
             lines_from_origin: true,
             wall_members: s.wall_members,
+            hanger_offset_m: s.hanger_offset_m,
         },
         model,
     };

@@ -472,7 +472,8 @@ def main():
              "[structure]", f"length_x_m = {lx}", f"length_y_m = {ly}", "module_m = 0.6", "main_tee_spacing_m = 1.2",
              "hanger_spacing_m = 1.2", "hanger_length_m = 1.0", "panel_mass_kg = 1.2", "layers = 1",
              "boundary = \"semi-free\"", f"nominal_gap_mm = {nominal_gap}",
-             "wall_members = true  # main tees on x = 0 (and x = Lx on the 1.2 m lines), cross tees on y = 0, Ly", ""]
+             "wall_members = true  # main tees on x = 0 (and x = Lx on the 1.2 m lines), cross tees on y = 0, Ly",
+             f"hanger_offset_m = {round(truth['rod_first_row_m'] % 1.2, 6)}  # first row of rods from y = 0", ""]
         for sen in sensors:
             L += ["[[sensors]]", f"id = \"{sen['id']}\"", f"kind = \"{sen['kind']}\"", f"x_m = {sen['x_m']}",
                   f"y_m = {sen['y_m']}", f"direction = \"{sen['direction']}\"", f"units = \"{sen['units']}\"", ""]

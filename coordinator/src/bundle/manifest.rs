@@ -43,6 +43,15 @@ pub struct Structure {
     /// outermost members are one module in and its ends rest on the walls.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub wall_members: bool,
+    /// Distance from the wall y = 0 to the first row of hanger rods, m: a
+    /// multiple of `module_m` below `hanger_spacing_m`; 0 (the default):
+    /// rows on y = 0, h, 2h, … (a row on a wall left out).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub hanger_offset_m: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 fn two() -> u8 {
@@ -348,6 +357,18 @@ fn check_structure(s: &Structure, path: &Path) -> Result<(), BundleError> {
                 format!("{v}: expected a multiple of {of_name} = {of}"),
             ));
         }
+    }
+    let offset = s.hanger_offset_m;
+    let on_module = offset == 0.0 || is_multiple(offset, s.module_m);
+    if !(offset >= 0.0 && offset < s.hanger_spacing_m && on_module) {
+        return Err(key_err(
+            path,
+            "structure.hanger_offset_m",
+            format!(
+                "{offset}: expected a multiple of module_m = {} from 0 to below hanger_spacing_m = {}",
+                s.module_m, s.hanger_spacing_m
+            ),
+        ));
     }
     if !(s.layers == 1 || s.layers == 2) {
         return Err(key_err(path, "structure.layers", format!("{}: expected 1 or 2", s.layers)));

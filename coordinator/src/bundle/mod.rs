@@ -119,7 +119,12 @@ impl Bundle {
             s.layers,
             s.boundary.as_str(),
             s.nominal_gap_mm.map(|g| format!("{g} mm")).unwrap_or_else(|| "none".into()),
-            if s.wall_members { ", members on the wall lines" } else { "" },
+            if s.wall_members { ", members on the wall lines" } else { "" }.to_string()
+                + &if s.hanger_offset_m > 0.0 {
+                    format!(", first row of rods {} m from y = 0", s.hanger_offset_m)
+                } else {
+                    String::new()
+                },
             m.sensors.len(),
         );
         for sensor in &m.sensors {

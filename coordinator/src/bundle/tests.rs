@@ -132,6 +132,39 @@ fn wall_members_are_read_and_written_back() {
     assert!(e.contains("bundle.toml") && e.contains("wall_members"), "{e}");
 }
 
+/// `hanger_offset_m` is optional (0), read, written back only when not 0,
+/// carried to the FE specimen, and refused with its key and the accepted
+/// values when off the module, negative or not below the hanger spacing.
+#[test]
+fn hanger_offset_is_read_checked_and_written_back() {
+    let toml =
+        TOML.replace("nominal_gap_mm = 19.0", "nominal_gap_mm = 19.0\nhanger_offset_m = 0.6");
+    let dir = make(&toml, RUN);
+    let b = read_bundle(dir.path()).unwrap();
+    assert_eq!(b.manifest.structure.hanger_offset_m, 0.6);
+    let spec = crate::specimen::fe_spec(&b.manifest.structure, Default::default()).unwrap();
+    assert_eq!(spec.structure.hanger_offset_m, 0.6);
+    let out = tempfile::tempdir().unwrap();
+    write_bundle(&b, out.path()).unwrap();
+    assert_eq!(read_bundle(out.path()).unwrap().manifest, b.manifest);
+    let plain = read_bundle(make(TOML, RUN).path()).unwrap();
+    assert_eq!(plain.manifest.structure.hanger_offset_m, 0.0);
+    let plain_out = tempfile::tempdir().unwrap();
+    write_bundle(&plain, plain_out.path()).unwrap();
+    let text = std::fs::read_to_string(plain_out.path().join("bundle.toml")).unwrap();
+    assert!(!text.contains("hanger_offset_m"), "{text}");
+    for bad in ["1.2", "0.3", "-0.6", "nan"] {
+        let e = refused(
+            &toml.replace("hanger_offset_m = 0.6", &format!("hanger_offset_m = {bad}")),
+            RUN,
+        );
+        assert!(
+            e.contains("structure.hanger_offset_m") && e.contains("hanger_spacing_m"),
+            "{bad}: {e}"
+        );
+    }
+}
+
 #[test]
 fn wrong_format_is_refused() {
     let e = refused(&TOML.replace("ceiling-measured/1", "ceiling-measured/2"), RUN);

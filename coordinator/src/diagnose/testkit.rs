@@ -19,6 +19,7 @@ pub fn square_structure(side_m: f64, nominal_gap_mm: f64) -> crate::bundle::Stru
         boundary: crate::bundle::Boundary::SemiFree,
         nominal_gap_mm: Some(nominal_gap_mm),
         wall_members: false,
+        hanger_offset_m: 0.0,
     }
 }
 

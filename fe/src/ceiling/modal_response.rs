@@ -326,6 +326,7 @@ mod tests {
                 nominal_gap_mm: 19.0,
                 lines_from_origin: true,
                 wall_members: false,
+                hanger_offset_m: 0.0,
             },
             model: ModelOptions::default(),
         };

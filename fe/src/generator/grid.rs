@@ -81,6 +81,9 @@ pub(super) struct Grid {
     phase: usize,
     /// Whether members lie on the wall lines ([`super::spec::Structure::wall_members`]).
     pub(super) wall_members: bool,
+    /// Row of the first rods modulo their spacing (`phase` moved by the
+    /// hanger offset's modules).
+    rod_phase: usize,
 }
 
 impl Grid {
@@ -135,6 +138,8 @@ pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, Genera
         rod_every: ratio(s.hanger_spacing_m).max(1),
         phase: usize::from(!s.lines_from_origin),
         wall_members: s.wall_members,
+        rod_phase: (usize::from(!s.lines_from_origin) + ratio(s.hanger_offset_m))
+            % ratio(s.hanger_spacing_m).max(1),
     };
     let mut m = empty(spec);
     grid_nodes(&g, &mut m);
@@ -280,7 +285,7 @@ fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> Vec<Node> {
     let sec = [area, 2.0 * i_mm4, i_mm4, i_mm4];
     let mut tops = vec![];
     for i in g.y_line_columns().into_iter().filter(|i| g.y_line(*i) == Member::Main) {
-        for j in (1..g.ny).filter(|j| (j + g.rod_every - g.phase).is_multiple_of(g.rod_every)) {
+        for j in (1..g.ny).filter(|j| (j + g.rod_every - g.rod_phase).is_multiple_of(g.rod_every)) {
             let id = g.id(i, j);
             let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, length_mm];
             tops.push(Node { id: 200000 + id, xyz_mm });

@@ -174,6 +174,17 @@ pub struct Structure {
     /// false (the default): the lines on a wall are the wall's.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub wall_members: bool,
+    /// Distance from the wall y = 0 to the first row of hanger rods (m), a
+    /// multiple of `module_m` below `hanger_spacing_m`: the rows lie at
+    /// y = offset, offset + h, … (in the frame the main tees are counted
+    /// in); 0 (the default): on the lines y = 0, h, 2h, …, a row on a wall
+    /// left out.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub hanger_offset_m: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 fn two() -> u8 {
@@ -344,6 +355,15 @@ impl CeilingSpec {
                     expected: "expected a multiple of module_m",
                 });
             }
+        }
+        let rows = s.hanger_offset_m / s.module_m;
+        let on_module = (rows - rows.round()).abs() <= 1e-9;
+        if !(s.hanger_offset_m >= 0.0 && s.hanger_offset_m < s.hanger_spacing_m && on_module) {
+            return Err(SpecError::Value {
+                key: "hanger_offset_m",
+                value: s.hanger_offset_m,
+                expected: "expected a multiple of module_m, >= 0 and below hanger_spacing_m",
+            });
         }
         if !(1..=2).contains(&s.layers) {
             let value = f64::from(s.layers);

@@ -21,6 +21,7 @@ pub fn type_c_structure(lx_m: f64, ly_m: f64) -> Structure {
         nominal_gap_mm: 19.0,
         lines_from_origin: false,
         wall_members: false,
+        hanger_offset_m: 0.0,
     }
 }
 

@@ -26,6 +26,7 @@ fn spec(connections: Connections, lines_from_origin: bool) -> CeilingSpec {
             nominal_gap_mm: 19.0,
             lines_from_origin,
             wall_members: false,
+            hanger_offset_m: 0.0,
         },
         model: ModelOptions { perimeter: Perimeter::Linear, connections },
     }

@@ -28,6 +28,7 @@ fn spec(wall_members: bool, connections: Connections, perimeter: Perimeter) -> C
             nominal_gap_mm: 19.0,
             lines_from_origin: true,
             wall_members,
+            hanger_offset_m: 0.0,
         },
         model: ModelOptions { perimeter, connections },
     }
@@ -123,5 +124,37 @@ fn every_variant_builds_with_members_on_the_walls() {
             let m = model(&s, spread);
             assert!(frequencies(&m, 3)[0] > 0.0, "{perimeter:?} {connections:?}");
         }
+    }
+}
+
+/// `hanger_offset_m` moves the rows of rods: at 0.6 m on the 1.2 m grid
+/// they hang at y = 0.6 and 1.8 m instead of 1.2 m; an offset off the
+/// module, negative or not below the spacing is refused with its key.
+#[test]
+fn hanger_offset_moves_the_rows_of_rods() {
+    let rods_y_mm = |walls: bool, offset_m: f64| -> Vec<(f64, f64)> {
+        let mut s = spec(walls, Connections::Elastic, Perimeter::Linear);
+        s.structure.hanger_offset_m = offset_m;
+        s.check().unwrap();
+        let m = model(&s, &[]);
+        let mut at: Vec<(f64, f64)> = m
+            .nodes
+            .iter()
+            .filter(|n| (200000..300000).contains(&n.id))
+            .map(|n| (n.xyz_mm[0], n.xyz_mm[1]))
+            .collect();
+        at.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        at
+    };
+    assert_eq!(rods_y_mm(false, 0.0), [(1200.0, 1200.0)]);
+    assert_eq!(rods_y_mm(false, 0.6), [(1200.0, 600.0), (1200.0, 1800.0)]);
+    let walls = rods_y_mm(true, 0.6);
+    assert_eq!(walls.len(), 6, "{walls:?}");
+    assert!(walls.iter().all(|(_, y)| *y == 600.0 || *y == 1800.0), "{walls:?}");
+    for bad in [1.2, 0.3, -0.6, f64::NAN] {
+        let mut s = spec(false, Connections::Elastic, Perimeter::Linear);
+        s.structure.hanger_offset_m = bad;
+        let e = s.check().unwrap_err().to_string();
+        assert!(e.contains("structure.hanger_offset_m"), "{bad}: {e}");
     }
 }
