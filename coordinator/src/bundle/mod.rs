@@ -109,6 +109,13 @@ impl Bundle {
     pub fn summary(&self) -> String {
         let m = &self.manifest;
         let s = &m.structure;
+        let mut layout = String::new();
+        if s.wall_members {
+            layout += ", members on the wall lines";
+        }
+        if s.hanger_offset_m > 0.0 {
+            layout += &format!(", first row of rods {} m from y = 0", s.hanger_offset_m);
+        }
         let mut out = format!(
             "bundle {} ({}):\n  specimen {} m x {} m, module {} m, {} layer(s), boundary {}, gap {}{}\n  {} sensors:",
             m.name,
@@ -119,12 +126,7 @@ impl Bundle {
             s.layers,
             s.boundary.as_str(),
             s.nominal_gap_mm.map(|g| format!("{g} mm")).unwrap_or_else(|| "none".into()),
-            if s.wall_members { ", members on the wall lines" } else { "" }.to_string()
-                + &if s.hanger_offset_m > 0.0 {
-                    format!(", first row of rods {} m from y = 0", s.hanger_offset_m)
-                } else {
-                    String::new()
-                },
+            layout,
             m.sensors.len(),
         );
         for sensor in &m.sensors {

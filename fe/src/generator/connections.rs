@@ -174,21 +174,20 @@ struct Joint {
 /// main tee between the walls is spliced every [`MAIN_TEE_PIECE_MM`].
 fn joints(g: &Grid) -> Vec<Joint> {
     let mut out = vec![];
-    let rows = g.cross_rows();
-    for j in rows.iter().copied() {
-        for i in g.y_line_columns() {
+    let columns = g.y_line_columns();
+    for j in g.cross_rows() {
+        for &i in &columns {
             let grid = g.id(i, j);
             let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, 0.0];
             let (member, axis, before, after) = match g.y_line(i) {
                 Member::Main => (Member::Cross, 1, i > 0, i < g.nx),
                 _ => (Member::Sub, 2, j > 0, j < g.ny),
             };
-            for (is_after, base) in [(false, 300000), (true, 400000)] {
-                if (is_after && after) || (!is_after && before) {
-                    let piece = base + grid;
-                    let splice = false;
-                    out.push(Joint { grid, piece, axis, after: is_after, member, splice, xyz_mm });
-                }
+            // The piece before the joint and the one after, where the grid goes on.
+            let pieces = [(false, 300000, before), (true, 400000, after)];
+            for (after, base, _) in pieces.into_iter().filter(|p| p.2) {
+                let piece = base + grid;
+                out.push(Joint { grid, piece, axis, after, member, splice: false, xyz_mm });
             }
             let y_mm = j as f64 * g.module_mm;
             let k = (y_mm / MAIN_TEE_PIECE_MM).round();

@@ -211,6 +211,15 @@ fn all_params() -> impl Iterator<Item = &'static ParamInfo> {
     PARAMETERS.iter().chain(&EXTENSIONS).chain(&LINEAR_FORM)
 }
 
+/// The parameters of the Pinching4 connections (`connections = "pinching4"`).
+const PINCHING4_PARAMS: [&str; 5] = [
+    "conn_force_scale",
+    "conn_disp_scale",
+    "conn_reload_force",
+    "conn_unload_shift",
+    "conn_compression_ratio",
+];
+
 /// Which model choice a parameter needs (for the refusal message).
 fn needs(name: &str) -> &'static str {
     match name {
@@ -223,11 +232,7 @@ fn needs(name: &str) -> &'static str {
         "gap_ratio" | "impact_factor" | "gap_spread" => {
             "it needs perimeter = \"pounding\" or \"friction-pounding\""
         }
-        "conn_force_scale"
-        | "conn_disp_scale"
-        | "conn_reload_force"
-        | "conn_unload_shift"
-        | "conn_compression_ratio" => "it needs connections = \"pinching4\"",
+        n if PINCHING4_PARAMS.contains(&n) => "it needs connections = \"pinching4\"",
         "channel_mass_kg_per_m" | "channel_beam_factor" => {
             "it needs layers = 2 (carrying channels above the grid)"
         }
@@ -247,11 +252,7 @@ pub fn parameters_for(spec: &CeilingSpec) -> Vec<ParamInfo> {
         "K_cc2" | "K_cc3" | "K_mc" => conn != Connections::Rigid,
         "friction_fy_N" | "friction_b" => m.perimeter.has_friction(),
         "gap_ratio" | "impact_factor" | "gap_spread" => m.perimeter.has_pounding(),
-        "conn_force_scale"
-        | "conn_disp_scale"
-        | "conn_reload_force"
-        | "conn_unload_shift"
-        | "conn_compression_ratio" => conn == Connections::Pinching4,
+        n if PINCHING4_PARAMS.contains(&n) => conn == Connections::Pinching4,
         "channel_mass_kg_per_m" | "channel_beam_factor" => spec.structure.layers == 2,
         "K_joint_rot" => conn != Connections::Rigid,
         _ => true,

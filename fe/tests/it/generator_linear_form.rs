@@ -3,33 +3,18 @@
 //! and the layout of the measured-bundle frame: each default rebuilds the
 //! model without it, and each value changes what it names and nothing else.
 
+use crate::common::type_c_structure;
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{
-    generate, Boundary, CeilingSpec, Connections, ModelOptions, Parameters, Perimeter, Structure,
+    generate, CeilingSpec, Connections, ModelOptions, Parameters, Perimeter, Structure,
     MEMBER_KG_PER_M,
 };
 use fe::materials::MaterialSpec;
 use fe::model::Model;
 
 fn spec(connections: Connections, lines_from_origin: bool) -> CeilingSpec {
-    CeilingSpec {
-        structure: Structure {
-            length_x_m: 3.6,
-            length_y_m: 2.4,
-            module_m: 0.6,
-            main_tee_spacing_m: 1.2,
-            hanger_spacing_m: 1.2,
-            hanger_length_m: 1.0,
-            panel_mass_kg: 1.2,
-            layers: 1,
-            boundary: Boundary::SemiFree,
-            nominal_gap_mm: 19.0,
-            lines_from_origin,
-            wall_members: false,
-            hanger_offset_m: 0.0,
-        },
-        model: ModelOptions { perimeter: Perimeter::Linear, connections },
-    }
+    let structure = Structure { layers: 1, lines_from_origin, ..type_c_structure(3.6, 2.4) };
+    CeilingSpec { structure, model: ModelOptions { perimeter: Perimeter::Linear, connections } }
 }
 
 fn model(s: &CeilingSpec, set: &[(&str, f64)]) -> Model {

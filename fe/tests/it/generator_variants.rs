@@ -305,12 +305,19 @@ fn friction_that_never_slips_is_the_linear_spring() {
     for s in m_lin.springs.iter_mut().filter(|s| s.group.as_deref() == Some("perimeter_friction")) {
         s.rayleigh = false;
     }
-    let h_lin = run(&with_sweep(m_lin.clone(), 0.3, 0.005, 400, recorders(&m_lin)));
-    let h_fr = run(&with_sweep(m_fr.clone(), 0.3, 0.005, 400, recorders(&m_fr)));
-    let peak = h_lin.rows.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
+    same_sweep_history(&m_lin, &m_fr);
+}
+
+/// Runs 2 s of the sweep at 0.3 g (dt 0.005 s) on `a` and `b` and
+/// requires the grid to move (above 0.01 mm) and every recorded value to
+/// agree within 1e-9 of the first recorder's peak.
+fn same_sweep_history(a: &Model, b: &Model) {
+    let h_a = run(&with_sweep(a.clone(), 0.3, 0.005, 400, recorders(a)));
+    let h_b = run(&with_sweep(b.clone(), 0.3, 0.005, 400, recorders(b)));
+    let peak = h_a.rows.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
     assert!(peak > 0.01, "the grid moves: {peak} mm");
-    for (a, b) in h_lin.rows.iter().zip(&h_fr.rows) {
-        for (x, y) in a.iter().zip(b) {
+    for (ra, rb) in h_a.rows.iter().zip(&h_b.rows) {
+        for (x, y) in ra.iter().zip(rb) {
             assert!((x - y).abs() <= 1e-9 * (1.0 + peak), "{x} vs {y}");
         }
     }
@@ -416,15 +423,7 @@ fn symmetric_pinching4_joint_below_its_first_point_is_the_elastic_joint() {
     }
     let moved = f_el.iter().zip(&f_cjs).map(|(a, b)| (b - a).abs() / a).fold(0.0, f64::max);
     assert!(moved > 1e-4, "Table 5.4's stiffer compression side moves a mode: {moved}");
-    let h_el = run(&with_sweep(m_el.clone(), 0.3, 0.005, 400, recorders(&m_el)));
-    let h_sym = run(&with_sweep(m_sym.clone(), 0.3, 0.005, 400, recorders(&m_sym)));
-    let peak = h_el.rows.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
-    assert!(peak > 0.01, "the grid moves: {peak} mm");
-    for (a, b) in h_el.rows.iter().zip(&h_sym.rows) {
-        for (x, y) in a.iter().zip(b) {
-            assert!((x - y).abs() <= 1e-9 * (1.0 + peak), "{x} vs {y}");
-        }
-    }
+    same_sweep_history(&m_el, &m_sym);
 }
 
 /// Energy dissipated by the first axial connection material of `spec`

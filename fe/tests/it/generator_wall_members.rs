@@ -5,33 +5,23 @@
 //! (very stiff connections rebuild the continuous grid), and the stiffer
 //! plan they make.
 
+use crate::common::type_c_structure;
 use fe::eigen::{modal_analysis, LanczosSettings};
 use fe::generator::{
-    generate, Boundary, CeilingSpec, Connections, ModelOptions, Parameters, Perimeter, Structure,
+    generate, CeilingSpec, Connections, ModelOptions, Parameters, Perimeter, Structure,
 };
 use fe::model::Model;
 
 /// A semi-free 2.4 m x 2.4 m specimen in the bundle frame (main tees at
 /// x = 0, 1.2, 2.4 m), members on the walls or not.
 fn spec(wall_members: bool, connections: Connections, perimeter: Perimeter) -> CeilingSpec {
-    CeilingSpec {
-        structure: Structure {
-            length_x_m: 2.4,
-            length_y_m: 2.4,
-            module_m: 0.6,
-            main_tee_spacing_m: 1.2,
-            hanger_spacing_m: 1.2,
-            hanger_length_m: 1.0,
-            panel_mass_kg: 1.2,
-            layers: 1,
-            boundary: Boundary::SemiFree,
-            nominal_gap_mm: 19.0,
-            lines_from_origin: true,
-            wall_members,
-            hanger_offset_m: 0.0,
-        },
-        model: ModelOptions { perimeter, connections },
-    }
+    let structure = Structure {
+        layers: 1,
+        lines_from_origin: true,
+        wall_members,
+        ..type_c_structure(2.4, 2.4)
+    };
+    CeilingSpec { structure, model: ModelOptions { perimeter, connections } }
 }
 
 fn model(s: &CeilingSpec, set: &[(&str, f64)]) -> Model {
