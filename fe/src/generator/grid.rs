@@ -1,13 +1,14 @@
 //! The grid builder: nodes on the module grid (room corners dropped unless
 //! members lie on the walls), main tees and sub cross tees along y, cross
 //! tees along x (on the wall lines too with `wall_members`), hanger rods
-//! fixed at the top, the semi-free perimeter ([`super::perimeter`]), the grid
+//! fixed at the top ([`super::rods`]), the semi-free perimeter ([`super::perimeter`]), the grid
 //! connections ([`super::connections`], none when rigid) and panel masses
 //! lumped a quarter to each panel corner.
 //!
 //! Numbering (the verification generator's scheme, so that generated files
 //! compare one to one): grid node (i, j) at (i·module, j·module, 0) has id
-//! 1 + i + (nx + 1)·j; its wall node 100000 + id; rod top 200000 + id; beams
+//! 1 + i + (nx + 1)·j; its wall node 100000 + id; rod top 200000 + id (the
+//! rods' own nodes: [`super::rods`]); beams
 //! from 1 (y-lines, cross tees, rods); perimeter springs from 100001;
 //! connection nodes from 300000 + id and their springs from 300001.
 //!
@@ -25,6 +26,7 @@ use serde_json::json;
 use super::connections::connections;
 use super::params::{parameters_for, ParamError, Parameters, MEMBER_KG_PER_M};
 use super::perimeter::perimeter;
+use super::rods::{rod_hinges, rod_masses, rods, Rods};
 use super::spec::CeilingSpec;
 use crate::model::{validate, Analysis, Beam, Fixity, Mass, Model, ModelError, Node, Units};
 
@@ -111,6 +113,13 @@ impl Grid {
     pub(super) fn cross_rows(&self) -> Vec<usize> {
         (0..=self.ny).filter(|&j| (j != 0 && j != self.ny) || self.wall_members).collect()
     }
+    /// The rows (0 < j < ny) that carry hanger rods, ascending: every
+    /// `rod_every`-th from the hanger offset.
+    pub(super) fn rod_rows(&self) -> Vec<usize> {
+        (1..self.ny)
+            .filter(|j| (j + self.rod_every - self.rod_phase).is_multiple_of(self.rod_every))
+            .collect()
+    }
     /// The member along y-line i, if it carries one ([`Grid::has_y_line`]).
     pub(super) fn y_line(&self, i: usize) -> Member {
         if (i + self.main_every - self.phase).is_multiple_of(self.main_every) {
@@ -145,19 +154,21 @@ pub fn generate(spec: &CeilingSpec, params: &Parameters) -> Result<Model, Genera
     grid_nodes(&g, &mut m);
     y_lines(&g, params, &mut m);
     cross_tees(&g, params, &mut m);
-    let rod_tops = rods(&g, params, s.hanger_length_m * 1000.0, &mut m);
+    let rods = rods(&g, params, s.hanger_length_m * 1000.0, &mut m);
+    let rod_tops = &rods.tops;
     let walls = perimeter(&g, spec, params, &mut m);
     let pieces = connections(&g, spec, params, &mut m);
+    rod_hinges(&rods, params, &mut m);
     masses(&g, s.panel_mass_kg * 1e-3 * params.value_or_midpoint("panel_mass_factor"), &mut m);
-    member_masses(&g, &rod_tops, params.value_or_midpoint("member_mass_factor"), &mut m);
+    member_masses(&g, &rods, params.value_or_midpoint("member_mass_factor"), &mut m);
     if s.layers == 2 {
         let kg_per_m = params.value_or_midpoint("channel_mass_kg_per_m");
-        channel_masses(&rod_tops, s.length_x_m, kg_per_m, &mut m);
-        channel_beams(&rod_tops, params, &mut m);
+        channel_masses(rod_tops, s.length_x_m, kg_per_m, &mut m);
+        channel_beams(rod_tops, params, &mut m);
     }
-    m.nodes.extend(walls.iter().chain(&rod_tops).chain(&pieces).copied());
+    m.nodes.extend(walls.iter().chain(rod_tops).chain(&pieces).copied());
     m.fixities =
-        walls.iter().chain(&rod_tops).map(|n| Fixity { node: n.id, fixed: [true; 6] }).collect();
+        walls.iter().chain(rod_tops).map(|n| Fixity { node: n.id, fixed: [true; 6] }).collect();
     m.meta = Some(meta(spec, params, &g, &m));
     validate(&m)?;
     Ok(m)
@@ -227,7 +238,7 @@ fn section(member: Member, p: &Parameters) -> [f64; 4] {
     [a * fa, j * fb, iy * fb, iz * fb]
 }
 
-fn push_beam(
+pub(super) fn push_beam(
     m: &mut Model,
     i: u64,
     j: u64,
@@ -276,23 +287,6 @@ fn cross_tees(g: &Grid, p: &Parameters, m: &mut Model) {
             push_beam(m, g.id(i, j), g.id(i + 1, j), sec, p, [0.0, 0.0, 1.0], "cross_tee");
         }
     }
-}
-
-fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> Vec<Node> {
-    let area = 40.0;
-    let i_mm4 =
-        area * area / (4.0 * std::f64::consts::PI) * p.value_or_midpoint("rod_bending_factor");
-    let sec = [area, 2.0 * i_mm4, i_mm4, i_mm4];
-    let mut tops = vec![];
-    for i in g.y_line_columns().into_iter().filter(|i| g.y_line(*i) == Member::Main) {
-        for j in (1..g.ny).filter(|j| (j + g.rod_every - g.rod_phase).is_multiple_of(g.rod_every)) {
-            let id = g.id(i, j);
-            let xyz_mm = [i as f64 * g.module_mm, j as f64 * g.module_mm, length_mm];
-            tops.push(Node { id: 200000 + id, xyz_mm });
-            push_beam(m, id, 200000 + id, sec, p, [1.0, 0.0, 0.0], "rod");
-        }
-    }
-    tops
 }
 
 /// The carrying channels' mass, `kg_per_m` along x over the plan's length
@@ -347,33 +341,33 @@ fn channel_beams(rod_tops: &[Node], p: &Parameters, m: &mut Model) {
 }
 
 /// The members' own mass ([`MEMBER_KG_PER_M`] times `factor`): each grid
-/// segment's half on each of its grid nodes, and each rod's lower half on
-/// its grid node (the upper half sits on the fixed top); none at 0.
-fn member_masses(g: &Grid, rod_tops: &[Node], factor: f64, m: &mut Model) {
+/// segment's half on each of its grid nodes, and the rods' along them
+/// ([`rod_masses`]); none at 0.
+fn member_masses(g: &Grid, rods: &Rods, factor: f64, m: &mut Model) {
     if factor <= 0.0 {
         return;
     }
     let segment_t = |member: Member| MEMBER_KG_PER_M[member.index() as usize] * g.module_mm * 1e-6;
-    let mut add = |node: u64, t: f64| match m.masses.iter_mut().find(|x| x.node == node) {
-        Some(x) => x.m_t.iter_mut().take(3).for_each(|v| *v += t),
-        None => m.masses.push(Mass { node, m_t: [t, t, t, 0.0, 0.0, 0.0] }),
+    let mut add = |node: u64, t: [f64; 3]| match m.masses.iter_mut().find(|x| x.node == node) {
+        Some(x) => x.m_t.iter_mut().zip(t).for_each(|(v, t)| *v += t),
+        None => m.masses.push(Mass { node, m_t: [t[0], t[1], t[2], 0.0, 0.0, 0.0] }),
     };
     for i in g.y_line_columns() {
         let t = 0.5 * factor * segment_t(g.y_line(i));
         for j in 0..g.ny {
-            add(g.id(i, j), t);
-            add(g.id(i, j + 1), t);
+            add(g.id(i, j), [t; 3]);
+            add(g.id(i, j + 1), [t; 3]);
         }
     }
     let t = 0.5 * factor * segment_t(Member::Cross);
     for j in g.cross_rows() {
         for i in 0..g.nx {
-            add(g.id(i, j), t);
-            add(g.id(i + 1, j), t);
+            add(g.id(i, j), [t; 3]);
+            add(g.id(i + 1, j), [t; 3]);
         }
     }
-    for top in rod_tops {
-        add(top.id - 200000, 0.5 * factor * MEMBER_KG_PER_M[3] * top.xyz_mm[2] * 1e-6);
+    for (node, t) in rod_masses(rods, factor) {
+        add(node, t);
     }
 }
 

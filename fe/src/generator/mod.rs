@@ -2,8 +2,8 @@
 //! the measured-data bundle and the `[model]` variant choices ([`spec`]), the
 //! 15 calibration parameters of seed Table 6.1 and the variants' extension
 //! parameters with their units and priors ([`params`]), and the builders:
-//! grid ([`grid`]), perimeter ([`perimeter`]), grid connections
-//! ([`connections`]).
+//! grid ([`grid`]), hanger rods ([`rods`]), perimeter ([`perimeter`]), grid
+//! connections ([`connections`]).
 //!
 //! ```no_run
 //! let spec = fe::generator::CeilingSpec::from_toml_file(std::path::Path::new("configs/specimens/type-c.toml")).unwrap();
@@ -14,6 +14,7 @@ pub mod connections;
 pub mod grid;
 pub mod params;
 pub mod perimeter;
+pub mod rods;
 pub mod spec;
 
 pub use grid::{generate, GenerateError};

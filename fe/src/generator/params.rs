@@ -187,8 +187,11 @@ pub const EXTENSIONS: [ParamInfo; 12] = [
 ///   a splice's play) smeared over the members between them;
 /// - `K_joint_rot` (N·mm/rad, default 1e13, continuity): the tee joints'
 ///   rotational stiffness in the plane when connections are not rigid (a
-///   tab locked in a slot turns before it pulls out).
-pub const LINEAR_FORM: [ParamInfo; 7] = [
+///   tab locked in a slot turns before it pulls out);
+/// - `K_rod_rot` (N·mm/rad, default 1e13, the seed's rigid tie): the rods'
+///   rotational stiffness at the tee about both horizontal axes (a rod in
+///   a clip, a wire's loop; [`super::rods`]), pinned towards 0.
+pub const LINEAR_FORM: [ParamInfo; 8] = [
     ParamInfo { default: Some(1.0e4), ..p("K_across", "N/mm", 10.0, 1.0e4, true) },
     ParamInfo { default: Some(1.0), ..p("panel_mass_factor", "-", 0.8, 1.2, true) },
     ParamInfo {
@@ -200,6 +203,7 @@ pub const LINEAR_FORM: [ParamInfo; 7] = [
     ParamInfo { default: Some(1.0), ..p("grid_axial_factor", "-", 0.02, 1.5, true) },
     ParamInfo { default: Some(1.0), ..p("grid_bending_factor", "-", 0.3, 3.0, true) },
     ParamInfo { default: Some(1.0e13), ..p("K_joint_rot", "N*mm/rad", 1.0e3, 1.0e13, true) },
+    ParamInfo { default: Some(1.0e13), ..p("K_rod_rot", "N*mm/rad", 1.0e1, 1.0e13, true) },
 ];
 
 /// The members' own mass (kg/m: main tee, cross tee, sub cross tee, hanger

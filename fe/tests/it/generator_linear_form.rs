@@ -5,6 +5,7 @@
 
 use crate::common::type_c_structure;
 use fe::eigen::{modal_analysis, LanczosSettings};
+use fe::generator::rods::ROD_ELEMENTS;
 use fe::generator::{
     generate, CeilingSpec, Connections, ModelOptions, Parameters, Perimeter, Structure,
     MEMBER_KG_PER_M,
@@ -47,6 +48,7 @@ fn defaults_rebuild_the_model_without_them() {
             ("grid_axial_factor", 1.0),
             ("grid_bending_factor", 1.0),
             ("K_joint_rot", 1.0e13),
+            ("K_rod_rot", 1.0e13),
         ],
     );
     assert_eq!(plain.materials, named.materials);
@@ -62,9 +64,11 @@ fn member_mass_adds_the_seed_facts_masses() {
     let with = mass_x_t(&model(&s, &[("member_mass_factor", 1.0)]));
     // 3.6 m x 2.4 m: y-lines at x = 0.6 … 3.0 (main at 0.6, 1.8, 3.0; sub at
     // 1.2, 2.4), each 2.4 m; cross tees on 3 rows of 3.6 m; rods on the main
-    // tees at y = 0.6 and 1.8, their lower halves (0.5 m each).
+    // tees at y = 0.6 and 1.8, in ROD_ELEMENTS beams of 1 m / n each, all
+    // but the top node's half-beam (1 − 1/2n of each 1 m rod).
     let [main, cross, sub, rod] = MEMBER_KG_PER_M;
-    let kg = 3.0 * 2.4 * main + 2.0 * 2.4 * sub + 3.0 * 3.6 * cross + 6.0 * 0.5 * rod;
+    let rod_m = 1.0 - 0.5 / ROD_ELEMENTS as f64;
+    let kg = 3.0 * 2.4 * main + 2.0 * 2.4 * sub + 3.0 * 3.6 * cross + 6.0 * rod_m * rod;
     assert!((with - base - kg * 1e-3).abs() < 1e-12, "{} t added, {} kg expected", with - base, kg);
     let panels = mass_x_t(&model(&s, &[("panel_mass_factor", 0.8)]));
     assert!((panels - 0.8 * base).abs() < 1e-12);

@@ -154,6 +154,7 @@ fn parameter_sets_follow_the_variant() {
         "rod_bending_factor",
         "grid_axial_factor",
         "grid_bending_factor",
+        "K_rod_rot",
     ];
     let with_channels = |mut v: Vec<&'static str>| {
         v.extend(["channel_mass_kg_per_m", "channel_beam_factor"]);
@@ -178,7 +179,8 @@ fn parameter_sets_follow_the_variant() {
         "conn_compression_ratio",
     ]);
     let mut with_joints = with_channels(expected);
-    with_joints.push("K_joint_rot");
+    // The joints' turn comes before the rods' in the linear form.
+    with_joints.insert(with_joints.len() - 1, "K_joint_rot");
     assert_eq!(all, with_joints);
     let elastic = names(Perimeter::Friction, Connections::Elastic);
     assert!(elastic.contains(&"K_cc1") && !elastic.contains(&"gap_ratio"), "{elastic:?}");

@@ -7,6 +7,7 @@ mod ceiling_simulate;
 mod common;
 mod generator_boundaries;
 mod generator_linear_form;
+mod generator_rods;
 mod generator_type_c;
 mod generator_variants;
 mod generator_wall_members;
