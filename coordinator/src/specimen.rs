@@ -2,7 +2,7 @@
 //! types: `bundle::Structure` → `fe::generator::CeilingSpec`, bundle sensors
 //! → `fe::ceiling::Sensor`, run data → `fe::ceiling::BaseInput`.
 
-use crate::bundle::{self, RunData};
+use crate::bundle::{self, Bundle, RunData};
 use fe::ceiling::{BaseInput, Direction, Sensor, SensorKind};
 use fe::generator::{CeilingSpec, ModelOptions, Structure};
 
@@ -74,6 +74,16 @@ pub fn fe_sensor(s: &bundle::Sensor) -> Sensor {
 /// 5 ms, 0.687 and 0.980 (at 2.5 ms the hysteresis gained 0.760, for
 /// twice the FE time again).
 pub const MAX_STEP_S: f64 = 0.005;
+
+/// The longest integration step (s) of the runs `runs` of `b` under
+/// [`run_options`]: a sample step split to at most [`MAX_STEP_S`]; 0
+/// without runs.
+pub fn fe_step_s(b: &Bundle, runs: &[usize]) -> f64 {
+    runs.iter()
+        .filter_map(|k| b.runs.get(*k))
+        .map(|r| r.dt_s / fe::ceiling::steps_per_sample(r.dt_s, 1, Some(MAX_STEP_S)) as f64)
+        .fold(0.0, f64::max)
+}
 
 /// The simulation options of every run of a bundle, in `diagnose` and in
 /// `synth`: Rayleigh damping `damping_ratio` on the first x and y modes,

@@ -288,8 +288,12 @@ pub struct ModalJson {
     pub modes: Vec<u32>,
     /// Measured frequencies (Hz).
     pub measured_hz: Vec<f64>,
-    /// The model's at the estimate (Hz).
+    /// The model's at the estimate, as integrated (Hz; [`super::modal_fit::as_integrated_hz`]).
     pub model_hz: Vec<f64>,
+    /// The model's eigenfrequencies at the estimate (Hz).
+    pub eigen_hz: Vec<f64>,
+    /// The step the runs are integrated at (s).
+    pub step_s: f64,
     /// The estimated model-discrepancy sd (Hz).
     pub discrepancy_sd_hz: f64,
     /// −log L of the frequencies (nats; part of the MDL's fit term).
@@ -588,6 +592,8 @@ fn verdict_fields(d: &Diagnosis, run_ids: &[String]) -> VerdictJson {
                     modes: m.modes.clone(),
                     measured_hz: m.measured_hz.clone(),
                     model_hz: m.model_hz.clone(),
+                    eigen_hz: m.eigen_hz.clone(),
+                    step_s: m.step_s,
                     discrepancy_sd_hz: m.discrepancy_var_hz2.sqrt(),
                     neg_log_lik: m.neg_log_lik,
                 }),

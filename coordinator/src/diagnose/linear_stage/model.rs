@@ -114,7 +114,7 @@ impl LinearModel<'_> {
     pub fn judge_modal(&self, u: &[f64]) -> Result<Judged, String> {
         let m =
             self.evaluation().modal_fit(&self.theta(u)).ok_or("the bundle has no modal.csv")??;
-        let modes_hz = m.model_hz.clone();
+        let modes_hz = m.eigen_hz.clone();
         Ok(Judged {
             channels: vec![],
             residuals: vec![],
@@ -130,7 +130,7 @@ impl LinearModel<'_> {
         if usable(entries).is_empty() {
             return Ok(None);
         }
-        modal_fit(entries, modes_hz)
+        modal_fit(entries, modes_hz, crate::specimen::fe_step_s(self.bundle, &self.runs))
             .map(Some)
             .ok_or_else(|| format!("the linear model has {} modes: too few", modes_hz.len()))
     }

@@ -27,8 +27,13 @@ pub struct FrequenciesJson {
     pub measured_hz: Vec<f64>,
     /// The lab's one-sigma uncertainty (Hz; 0 unknown).
     pub std_hz: Vec<f64>,
-    /// The fitted linear model's (Hz).
+    /// The fitted linear model's, as integrated at `step_s` (Hz;
+    /// [`crate::diagnose::modal_fit::as_integrated_hz`]).
     pub model_hz: Vec<f64>,
+    /// The fitted linear model's eigenfrequencies (Hz).
+    pub eigen_hz: Vec<f64>,
+    /// The step the runs are integrated at (s).
+    pub step_s: f64,
     /// The profiled discrepancy's standard deviation (Hz).
     pub discrepancy_sd_hz: f64,
 }
@@ -91,6 +96,8 @@ impl LinearJson {
             measured_hz: m.measured_hz.clone(),
             std_hz: m.lab_var_hz2.iter().map(|v| v.sqrt()).collect(),
             model_hz: m.model_hz.clone(),
+            eigen_hz: m.eigen_hz.clone(),
+            step_s: m.step_s,
             discrepancy_sd_hz: m.discrepancy_var_hz2.sqrt(),
         });
         let channels = s
@@ -124,7 +131,12 @@ impl LinearJson {
             let list =
                 |v: &[f64]| v.iter().map(|x| format!("{x:.2}")).collect::<Vec<_>>().join(" ");
             out += &format!("  measured Hz: {}\n", list(&f.measured_hz));
-            out += &format!("  model Hz:    {}\n", list(&f.model_hz));
+            out += &format!(
+                "  model Hz:    {} (as integrated at {} ms)\n",
+                list(&f.model_hz),
+                f.step_s * 1e3
+            );
+            out += &format!("  eigen Hz:    {}\n", list(&f.eigen_hz));
         }
         for c in &self.channels {
             out += &format!("  {} {}: NRMSE {:.3}\n", c.run, c.sensor, c.nrmse);
