@@ -164,7 +164,11 @@ impl Evaluation<'_> {
         }
         let used = self.fe_spec().map(|s| fe::generator::parameters_for(&s)).unwrap_or_default();
         (self.bundle.linear_form.iter())
-            .filter(|(n, _)| solver_parameter(n).is_some() || used.iter().any(|p| p.name == *n))
+            .filter(|(n, _)| {
+                solver_parameter(n).is_some()
+                    || used.iter().any(|p| p.name == *n)
+                    || fe::generator::along::along_factor_info(n).is_some()
+            })
             .copied()
             .collect()
     }

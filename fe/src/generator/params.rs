@@ -12,6 +12,7 @@
 
 use std::collections::BTreeMap;
 
+use super::along::along_factor_info;
 use super::connections::CJS_A_COMPRESSION_RATIO;
 use super::spec::{CeilingSpec, Connections};
 
@@ -264,9 +265,10 @@ pub fn parameters_for(spec: &CeilingSpec) -> Vec<ParamInfo> {
     all_params().filter(|p| used(p.name)).map(|p| ParamInfo { modelled: true, ..*p }).collect()
 }
 
-/// The description of a parameter by name, from any table.
+/// The description of a parameter by name, from any table, or a grid
+/// line's along factor ([`super::along`]).
 pub fn param_info(name: &str) -> Option<ParamInfo> {
-    all_params().find(|p| p.name == name).copied()
+    all_params().find(|p| p.name == name).copied().or_else(|| along_factor_info(name))
 }
 
 /// Why a parameter value is refused.
@@ -341,9 +343,11 @@ impl Parameters {
         &self.accepted
     }
 
-    /// Sets one parameter by name.
+    /// Sets one parameter by name (a grid line's along factor, which every
+    /// variant accepts, included: [`super::along`]).
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
-        let Some(info) = self.accepted.iter().find(|p| p.name == name) else {
+        let line = along_factor_info(name);
+        let Some(info) = self.accepted.iter().find(|p| p.name == name).or(line.as_ref()) else {
             return Err(match param_info(name) {
                 Some(p) => ParamError::NotModelled { name: name.into(), needs: needs(p.name) },
                 None => {

@@ -18,9 +18,13 @@
 //!   gap, q from [`gap_offsets`];
 //! - `friction-pounding`: Steel01 plus the Gap (the seed's nonlinear model).
 //!
+//! Each grid line's two ends take `K_friction` times the line's along factor
+//! ([`super::along`]; 1 unless given).
+//!
 //! Materials: 1 Elastic K_friction, 2 the restraint, then Steel01 if
 //! friction, then the three Gaps if pounding, then one Gap per other
-//! (member, gap) pair a `gap_spread` makes. Springs (ids from 100001, ends
+//! (member, gap) pair a `gap_spread` makes and one along-axis law per other
+//! line factor. Springs (ids from 100001, ends
 //! in grid-node id order as the verification models number them) per end:
 //! friction, gap, perpendicular, vertical; the wall node is i on the
 //! x = 0 / y = 0 walls and j on the far walls, so motion towards a wall is
@@ -29,7 +33,8 @@
 //! verification models (`ceiling_2p4_linear.json`, `_nonlinear_*.json`).
 //! Units: N, mm.
 
-use super::grid::{Grid, Member};
+use super::along::{along_factor_info, line_factor_name, row_factor_name};
+use super::grid::{GenerateError, Grid, Member};
 use super::params::Parameters;
 use super::spec::{CeilingSpec, EndCondition};
 use crate::materials::MaterialSpec;
@@ -100,6 +105,70 @@ fn scaled_gap(m: &mut Model, base: u64, factor: f64) -> u64 {
     let id = m.materials.iter().map(|d| d.id).max().unwrap_or(0) + 1;
     m.materials.push(MaterialDef { id, spec });
     id
+}
+
+/// The id of the along-axis material `base` with its stiffness times
+/// `factor` (Elastic k, Steel01 E0; its yield force kept): `base` itself
+/// for 1, else an equal material already in `m` or a new one.
+fn scaled_along(m: &mut Model, base: u64, factor: f64) -> u64 {
+    if factor == 1.0 {
+        return base;
+    }
+    let spec = match m.materials.iter().find(|d| d.id == base).map(|d| &d.spec) {
+        Some(MaterialSpec::Elastic { k }) => MaterialSpec::Elastic { k: k * factor },
+        Some(MaterialSpec::Steel01 { fy, e0, b }) => {
+            MaterialSpec::Steel01 { fy: *fy, e0: e0 * factor, b: *b }
+        }
+        _ => return base,
+    };
+    if let Some(d) = m.materials.iter().skip(2).find(|d| d.spec == spec) {
+        return d.id;
+    }
+    let id = m.materials.iter().map(|d| d.id).max().unwrap_or(0) + 1;
+    m.materials.push(MaterialDef { id, spec });
+    id
+}
+
+/// The along factor's name of the grid line an end belongs to: its cross-tee
+/// row (an end on an x wall) or its y-line (on a y wall).
+fn line_of(g: &Grid, end: &End) -> &'static str {
+    let (i, j, axial, ..) = *end;
+    if axial == 1 {
+        row_factor_name(j as f64 * g.module_mm)
+    } else {
+        line_factor_name(i as f64 * g.module_mm)
+    }
+}
+
+/// The factor names of the lines with an end on a wall that is not fixed,
+/// each once: rows by y, then y-lines by x.
+pub(super) fn sliding_lines(g: &Grid, spec: &CeilingSpec) -> Vec<&'static str> {
+    let sliding = |e: &End| spec.structure.boundary.on_side(e.4) != EndCondition::Fixed;
+    let mut rows: Vec<(usize, &'static str)> = vec![];
+    let mut lines: Vec<(usize, &'static str)> = vec![];
+    for e in ends(g).iter().filter(|e| sliding(e)) {
+        let (list, at) = if e.2 == 1 { (&mut rows, e.1) } else { (&mut lines, e.0) };
+        list.push((at, line_of(g, e)));
+    }
+    for list in [&mut rows, &mut lines] {
+        list.sort_unstable();
+        list.dedup();
+    }
+    rows.into_iter().chain(lines).map(|(_, n)| n).collect()
+}
+
+/// Refuses an along factor that names no grid line of the specimen ending
+/// on a wall.
+pub(super) fn check_along_factors(g: &Grid, p: &Parameters) -> Result<(), GenerateError> {
+    let lines: Vec<&str> = ends(g).iter().map(|e| line_of(g, e)).collect();
+    for (name, _) in p.iter().filter(|(n, _)| along_factor_info(n).is_some()) {
+        if !lines.contains(&name) {
+            let mut known = lines.clone();
+            known.dedup();
+            return Err(GenerateError::NoSuchLine { name: name.into(), lines: known.join(", ") });
+        }
+    }
+    Ok(())
 }
 
 /// One grid end at the wall: grid (i, j), along-axis DOF, whether the wall
@@ -180,16 +249,22 @@ pub(super) fn perimeter(g: &Grid, spec: &CeilingSpec, p: &Parameters, m: &mut Mo
         let (a, b) = if wall_first { (wall, grid) } else { (grid, wall) };
         let factor = 1.0 + spread * end_offset(g, &end);
         let gap_mat = per.has_pounding().then(|| scaled_gap(m, first_gap + member.index(), factor));
+        let along_mat = match p.get(line_of(g, &end)) {
+            f if f.is_nan() => friction_mat,
+            f => scaled_along(m, friction_mat, f),
+        };
         let condition = spec.structure.boundary.on_side(side);
-        let list = end_springs(condition, axial, (friction_mat, across_mat), gap_mat);
+        let list = end_springs(condition, axial, (along_mat, across_mat), gap_mat);
         for (dof, mat, group) in list {
+            // The along law enters the Rayleigh term where it is elastic.
+            let base = if mat == along_mat { friction_mat } else { mat };
             m.springs.push(Spring {
                 id: 100001 + m.springs.len() as u64,
                 i: a,
                 j: b,
                 dof,
                 mat,
-                rayleigh: mat == 1 || mat == 2 || mat == across_mat,
+                rayleigh: base == 1 || base == 2 || base == across_mat,
                 group: Some(group.into()),
                 side: Some(side.into()),
                 member: Some(member.name().into()),

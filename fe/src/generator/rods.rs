@@ -146,31 +146,14 @@ pub(super) fn rod_hinges(rods: &Rods, p: &Parameters, m: &mut Model) {
 mod tests {
     use super::*;
     use crate::eigen::{modal_analysis, LanczosSettings};
-    use crate::model::{Fixity, Mass, Units};
+    use crate::model::{Fixity, Mass};
 
     /// First mode (Hz) of one M8 rod of `length_mm` in `elements` beams,
     /// fixed at the top and pinned at the bottom, mass lumped as
     /// [`rod_masses`] lumps it.
     fn rod_mode_hz(elements: usize, length_mm: f64) -> f64 {
         let p = Parameters::prior_midpoints();
-        let mut m = Model {
-            format: crate::model::FORMAT_NAME.into(),
-            format_version: crate::model::FORMAT_VERSION,
-            name: "rod".into(),
-            description: String::new(),
-            units: Units::standard(),
-            ndm: 3,
-            ndf: 6,
-            nodes: vec![],
-            fixities: vec![],
-            materials: vec![],
-            beams: vec![],
-            springs: vec![],
-            masses: vec![],
-            damping: None,
-            analysis: None,
-            meta: None,
-        };
+        let mut m = Model::empty("rod");
         let beam_t = MEMBER_KG_PER_M[3] * length_mm * 1e-6 / elements as f64;
         for k in 0..=elements {
             let z_mm = length_mm * k as f64 / elements as f64;

@@ -60,6 +60,30 @@ pub struct Model {
     pub meta: Option<Value>,
 }
 
+impl Model {
+    /// A 3-D model named `name` in the standard units with nothing in it.
+    pub fn empty(name: &str) -> Self {
+        Model {
+            format: FORMAT_NAME.into(),
+            format_version: FORMAT_VERSION,
+            name: name.into(),
+            description: String::new(),
+            units: Units::standard(),
+            ndm: 3,
+            ndf: 6,
+            nodes: vec![],
+            fixities: vec![],
+            materials: vec![],
+            beams: vec![],
+            springs: vec![],
+            masses: vec![],
+            damping: None,
+            analysis: None,
+            meta: None,
+        }
+    }
+}
+
 /// The `units` block.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Units {

@@ -5,6 +5,7 @@
 
 mod ceiling_simulate;
 mod common;
+mod generator_along;
 mod generator_boundaries;
 mod generator_linear_form;
 mod generator_rods;

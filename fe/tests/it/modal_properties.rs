@@ -10,7 +10,7 @@
 use fe::assembly::Structure;
 use fe::eigen::{dense_eigen, modal_analysis, LanczosSettings};
 use fe::elements::{beam_global_stiffness, Mat12};
-use fe::model::{Beam, Fixity, Mass, Model, Node, Units};
+use fe::model::{Beam, Fixity, Mass, Model, Node};
 use nalgebra::{Matrix3, Rotation3, SVector, Vector3};
 use proptest::prelude::*;
 
@@ -31,24 +31,7 @@ fn beam(id: u64, i: u64, j: u64, vecxz: [f64; 3]) -> Beam {
 }
 
 fn empty_model() -> Model {
-    Model {
-        format: "ceiling-fe-model".into(),
-        format_version: 1,
-        name: "test".into(),
-        description: String::new(),
-        units: Units::standard(),
-        ndm: 3,
-        ndf: 6,
-        nodes: vec![],
-        fixities: vec![],
-        materials: vec![],
-        beams: vec![],
-        springs: vec![],
-        masses: vec![],
-        damping: None,
-        analysis: None,
-        meta: None,
-    }
+    Model::empty("test")
 }
 
 #[test]

@@ -3,9 +3,11 @@
 //! with every parameter that moves the linear response ([`priors`]), and
 //! held by every later evaluation ([`crate::bundle::Bundle::linear_form`]).
 //! A linear model's run costs milliseconds by modal superposition
-//! ([`model`]), so the stage searches its nine dimensions directly on the
+//! ([`model`]), so the stage searches its dimensions (twelve, and one
+//! along factor per grid line that ends on a sliding wall) directly on the
 //! model: a maximin design, Levenberg–Marquardt from its best points
-//! ([`search`]), the Laplace spread at the estimate.
+//! ([`search`]) on −log L plus the line factors' log-normal prior, the
+//! Laplace spread at the estimate.
 //!
 //! Which runs are linear: for each direction the calibration runs shake,
 //! the one with the smallest peak input (a lab's weakest run exists to be
@@ -26,7 +28,7 @@ use crate::study::DesignMethod;
 use model::{Judged, LinearModel};
 use search::{Located, Searcher};
 
-pub use priors::{LINEAR_PRIORS, NOMINAL};
+pub use priors::{linear_priors, nominal, LINEAR_PRIORS, LINE_BOUNDS, LINE_LOG_SD, NOMINAL};
 
 /// Design points per parameter (the design is cheap: a point is one eigen
 /// solution and a few modal superpositions).
@@ -119,13 +121,14 @@ pub fn linear_stage(
     seed: u64,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<LinearStage, String> {
-    let priors = LINEAR_PRIORS.to_vec();
+    let priors = linear_priors(b);
     let d = priors.len();
     let model = LinearModel { bundle: b, runs: linear_runs(b, cal_runs), priors };
     let planned = DESIGN_PER_DIM * d + (2 * STARTS + 1) * ITERATIONS * (d + 2);
     let mut s = Searcher { model: &model, n_eff: vec![], threads, spent: 0, modal_only: false };
-    let nominal: Vec<f64> =
-        model.priors.iter().zip(NOMINAL).map(|(p, v)| p.unit(v).clamp(0.0, 1.0)).collect();
+    let nominal: Vec<f64> = (model.priors.iter().zip(nominal(&model.priors)))
+        .map(|(p, v)| p.unit(v).clamp(0.0, 1.0))
+        .collect();
     let mut starts = vec![nominal];
     starts.extend(frequency_fits(&mut s, seed));
     s.modal_only = false;
@@ -217,7 +220,7 @@ fn design(n: usize, d: usize, seed: u64) -> Vec<Vec<f64>> {
 }
 
 /// The linear model at the physical values `values` (by name; the others
-/// at [`NOMINAL`]) on the linear runs of `cal_runs`, without a search: what
+/// at [`nominal`]) on the linear runs of `cal_runs`, without a search: what
 /// a given linear form explains. Err for an unknown name or a value
 /// outside its prior.
 pub fn linear_at(
@@ -225,8 +228,8 @@ pub fn linear_at(
     cal_runs: &[usize],
     values: &[(String, f64)],
 ) -> Result<LinearStage, String> {
-    let priors = LINEAR_PRIORS.to_vec();
-    let mut theta = NOMINAL.to_vec();
+    let priors = linear_priors(b);
+    let mut theta = nominal(&priors);
     for (name, v) in values {
         let k = priors.iter().position(|p| p.name == name).ok_or_else(|| {
             let known: Vec<&str> = priors.iter().map(|p| p.name).collect();

@@ -5,6 +5,7 @@
 //! runs (the channel fits of [`Evaluation::fits`]) and `modal.csv`
 //! ([`modal_fit`]).
 
+use super::priors::line_prior_rows;
 use crate::bundle::Bundle;
 use crate::diagnose::cause::Prior;
 use crate::diagnose::fit::{measured_sensors, neg_log_lik, ChannelFit, Evaluation, Simulated};
@@ -43,12 +44,18 @@ pub struct Judged {
     pub modes_hz: Vec<f64>,
     /// Each superposed mode's damping ratio.
     pub modal_damping: Vec<f64>,
+    /// The line factors' prior, whitened ([`super::priors::line_prior_rows`]).
+    pub prior_rows: Vec<f64>,
 }
 
 impl Judged {
-    /// −log L under channel weights `n_eff`, the frequencies included.
+    /// −log L under channel weights `n_eff`, the frequencies and the line
+    /// factors' prior included (the search's objective, −log posterior).
     pub fn neg_log_lik(&self, n_eff: &[f64]) -> f64 {
-        neg_log_lik(&self.channels, n_eff) + self.modal.as_ref().map_or(0.0, |m| m.neg_log_lik)
+        let prior = 0.5 * self.prior_rows.iter().map(|r| r * r).sum::<f64>();
+        neg_log_lik(&self.channels, n_eff)
+            + self.modal.as_ref().map_or(0.0, |m| m.neg_log_lik)
+            + prior
     }
 }
 
@@ -101,7 +108,8 @@ impl LinearModel<'_> {
         let (modes_hz, modal_damping) = (first.modes_hz.clone(), first.modal_damping.clone());
         let (channels, residuals) = ev.fits(&sims);
         let modal = self.modal(&sway_modes(&modes_hz, &first.horizontal_share))?;
-        Ok((sims, Judged { channels, residuals, modal, modes_hz, modal_damping }))
+        let prior_rows = line_prior_rows(&self.priors, &self.theta(u));
+        Ok((sims, Judged { channels, residuals, modal, modes_hz, modal_damping, prior_rows }))
     }
 
     /// [`simulate`](Self::simulate) without the histories.
@@ -121,6 +129,7 @@ impl LinearModel<'_> {
             modal: Some(m),
             modes_hz,
             modal_damping: vec![],
+            prior_rows: line_prior_rows(&self.priors, &self.theta(u)),
         })
     }
 
@@ -140,20 +149,51 @@ impl LinearModel<'_> {
 mod tests {
     use super::*;
     use crate::diagnose::farm_executor_tests::tiny_bundle;
-    use crate::diagnose::linear_stage::LINEAR_PRIORS;
+    use crate::diagnose::linear_stage::{linear_priors, LINEAR_PRIORS, LINE_LOG_SD};
+
+    /// The line factors' log-normal prior is the objective's only term
+    /// that needs no run: ½ Σ (ln f / sd)², zero at the nominal factors.
+    #[test]
+    fn the_line_factors_prior_enters_the_objective() {
+        let tmp = tempfile::tempdir().unwrap();
+        let b = tiny_bundle(tmp.path());
+        let priors = linear_priors(&b);
+        let lines = priors.len() - LINEAR_PRIORS.len();
+        let model = LinearModel { bundle: &b, runs: vec![0], priors };
+        let mut u: Vec<f64> = (model.priors.iter())
+            .zip(crate::diagnose::linear_stage::nominal(&model.priors))
+            .map(|(p, v)| p.unit(v))
+            .collect();
+        let at = model.judge(&u).unwrap();
+        assert_eq!(at.prior_rows, vec![0.0; lines]);
+        let last = u.len() - 1;
+        u[last] = model.priors[last].unit(1.5);
+        let moved = model.judge(&u).unwrap();
+        let expected = (1.5f64.ln() / LINE_LOG_SD).powi(2) / 2.0;
+        let sum_sq: f64 = moved.prior_rows.iter().map(|r| r * r).sum();
+        assert!((0.5 * sum_sq - expected).abs() < 1e-9, "{sum_sq}");
+        let n_eff = vec![1.0; moved.channels.len()];
+        let without: f64 = moved.neg_log_lik(&n_eff) - 0.5 * sum_sq;
+        assert!(
+            (without - Judged { prior_rows: vec![], ..moved.clone() }.neg_log_lik(&n_eff)).abs()
+                < 1e-9
+        );
+    }
 
     /// At any point the modal superposition gives the FE transient's
-    /// histories on the same linear model (to the modes it leaves out).
+    /// histories on the same linear model (to the modes it leaves out),
+    /// the grid lines' along factors included.
     #[test]
     fn the_linear_model_is_the_baselines_fe_model() {
         let tmp = tempfile::tempdir().unwrap();
         let b = tiny_bundle(tmp.path());
         let runs: Vec<usize> = (0..b.runs.len()).collect();
-        let model = LinearModel { bundle: &b, runs: runs.clone(), priors: LINEAR_PRIORS.to_vec() };
-        for u in [
-            vec![0.5; LINEAR_PRIORS.len()],
-            vec![0.2, 0.9, 0.3, 0.7, 0.4, 0.6, 0.5, 0.8, 0.1, 0.3, 0.6],
-        ] {
+        let priors = linear_priors(&b);
+        assert!(priors.len() > LINEAR_PRIORS.len(), "the tiny bundle's lines have factors");
+        let d = priors.len();
+        let model = LinearModel { bundle: &b, runs: runs.clone(), priors };
+        let spread: Vec<f64> = (0..d).map(|k| (0.2 + 0.37 * k as f64) % 1.0).collect();
+        for u in [vec![0.5; d], spread] {
             let (sims, _) = model.simulate(&u).unwrap();
             let fe = model.evaluation().simulate(&model.theta(&u)).unwrap();
             for (run_l, run_f) in sims.iter().zip(&fe) {

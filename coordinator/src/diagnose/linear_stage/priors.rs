@@ -31,9 +31,19 @@
 //!   then differs from the tied rod's by about 1e-3);
 //! - `damping_ratio` 0.5–15 %: bare steel grids to panels rubbing;
 //! - `damping_mass_share` 0–1: the Rayleigh pair's split
-//!   ([`super::super::damping_share`]).
+//!   ([`super::super::damping_share`]);
+//! - each grid line's along factor (`along_factor_row_yY`,
+//!   `along_factor_line_xX`: `K_friction` times it at both ends of the line,
+//!   [`fe::generator::along`]) for every line that ends on a wall it may
+//!   slide along: a random effect, log-normal about 1 with log-sd
+//!   [`LINE_LOG_SD`] (the likelihood's prior term, [`line_prior_rows`]),
+//!   kept within [`LINE_BOUNDS`]. A lab seats each end on its angle by hand
+//!   and its clips scatter; a line's two ends together decide how it slides,
+//!   and a line held half or twice as firmly as the wall's mean is rare
+//!   but seen (2.8 sd).
 
-use crate::diagnose::cause::Prior;
+use crate::bundle::Bundle;
+use crate::diagnose::cause::{Cause, Prior};
 
 const fn prior(name: &'static str, unit: &'static str, low: f64, high: f64, log: bool) -> Prior {
     Prior { name, unit, low, high, log, reference: None }
@@ -62,3 +72,38 @@ pub const LINEAR_PRIORS: [Prior; 12] = [
 /// linear stage's search.
 pub const NOMINAL: [f64; 12] =
     [20.0, 1.0e4, 1.0, 1.0, 1.0, 800.0, 100.0, 1.0, 1.0e10, 1.0e8, 0.05, 0.5];
+
+/// Log-sd of a grid line's along factor about 1 (see the module
+/// documentation): ±25 % at one sd.
+pub const LINE_LOG_SD: f64 = 0.25;
+
+/// Bounds of a grid line's along factor: e^{±3.7 sd}, where the
+/// log-normal prior has left less than 1e-4 of its mass.
+pub const LINE_BOUNDS: (f64, f64) = (0.4, 2.5);
+
+/// The linear stage's parameters for `b`: [`LINEAR_PRIORS`], then one along
+/// factor per grid line that ends on a wall it may slide along.
+pub fn linear_priors(b: &Bundle) -> Vec<Prior> {
+    let spec = crate::specimen::fe_spec(&b.manifest.structure, Cause::NONE.model_options());
+    let lines = spec.map(|s| fe::generator::along_factor_names(&s)).unwrap_or_default();
+    let (low, high) = LINE_BOUNDS;
+    let line = |name| Prior { name, unit: "-", low, high, log: true, reference: None };
+    LINEAR_PRIORS.iter().copied().chain(lines.into_iter().map(line)).collect()
+}
+
+/// The nominal specimen for `priors`: [`NOMINAL`], every line's factor 1.
+pub fn nominal(priors: &[Prior]) -> Vec<f64> {
+    (0..priors.len()).map(|i| NOMINAL.get(i).copied().unwrap_or(1.0)).collect()
+}
+
+/// The prior's whitened residuals ln(f)/[`LINE_LOG_SD`] of the line factors
+/// among `priors` at the physical values `theta`: ½ |rows|² is the
+/// log-normal prior's −log density (constants dropped).
+pub fn line_prior_rows(priors: &[Prior], theta: &[f64]) -> Vec<f64> {
+    priors
+        .iter()
+        .zip(theta)
+        .filter(|(p, _)| fe::generator::along::along_factor_info(p.name).is_some())
+        .map(|(_, v)| v.ln() / LINE_LOG_SD)
+        .collect()
+}

@@ -152,7 +152,8 @@ impl Searcher<'_, '_> {
 
 /// The weighted residual rows of `j`: each channel's residual times
 /// √(n_c / SSR_c) of the centre `c` (missing readings 0), then the
-/// frequency residuals over the centre's standard deviations, so that
+/// frequency residuals over the centre's standard deviations, then the
+/// line factors' whitened prior, so that
 /// ½|rows|² linearises −log L at the centre.
 fn rows(j: &Judged, c: &Judged, n_eff: &[f64]) -> Vec<f64> {
     let mut out = Vec::new();
@@ -165,6 +166,7 @@ fn rows(j: &Judged, c: &Judged, n_eff: &[f64]) -> Vec<f64> {
             out.push(r / s);
         }
     }
+    out.extend(&j.prior_rows);
     out
 }
 
