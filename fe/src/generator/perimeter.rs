@@ -163,8 +163,12 @@ pub(super) fn check_along_factors(g: &Grid, p: &Parameters) -> Result<(), Genera
     let lines: Vec<&str> = ends(g).iter().map(|e| line_of(g, e)).collect();
     for (name, _) in p.iter().filter(|(n, _)| along_factor_info(n).is_some()) {
         if !lines.contains(&name) {
-            let mut known = lines.clone();
-            known.dedup();
+            let mut known: Vec<&str> = vec![];
+            for l in &lines {
+                if !known.contains(l) {
+                    known.push(l);
+                }
+            }
             return Err(GenerateError::NoSuchLine { name: name.into(), lines: known.join(", ") });
         }
     }

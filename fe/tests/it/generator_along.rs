@@ -103,6 +103,7 @@ fn a_line_the_specimen_lacks_is_refused() {
     let text = err.to_string();
     assert!(text.contains("along_factor_row_y900"), "{text}");
     assert!(text.contains("along_factor_row_y600"), "names the lines it has: {text}");
+    assert_eq!(text.matches("along_factor_row_y600,").count(), 1, "each once: {text}");
     let mut p = Parameters::prior_midpoints_for(&s);
     assert!(p.set("along_factor_row_y600", 0.0).is_err(), "a factor is positive");
     assert!(p.set("along_factor_row_y600.5", 1.0).is_err(), "whole millimetres");
