@@ -79,9 +79,11 @@ pub const MAX_STEP_S: f64 = 0.005;
 /// [`run_options`]: a sample step split to at most [`MAX_STEP_S`]; 0
 /// without runs.
 pub fn fe_step_s(b: &Bundle, runs: &[usize]) -> f64 {
+    // The step does not depend on the damping.
+    let o = run_options(fe::ceiling::SimOptions::default().damping_ratio);
     runs.iter()
         .filter_map(|k| b.runs.get(*k))
-        .map(|r| r.dt_s / fe::ceiling::steps_per_sample(r.dt_s, 1, Some(MAX_STEP_S)) as f64)
+        .map(|r| r.dt_s / fe::ceiling::steps_per_sample(r.dt_s, o.substeps, o.max_step_s) as f64)
         .fold(0.0, f64::max)
 }
 

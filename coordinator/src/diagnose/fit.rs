@@ -167,7 +167,7 @@ impl Evaluation<'_> {
             .filter(|(n, _)| {
                 solver_parameter(n).is_some()
                     || used.iter().any(|p| p.name == *n)
-                    || fe::generator::along::along_factor_info(n).is_some()
+                    || fe::generator::along::is_along_factor(n)
             })
             .copied()
             .collect()

@@ -59,14 +59,25 @@ pub fn line_factor_name(x_mm: f64) -> &'static str {
     intern(format!("{LINE}{}", x_mm.round() as i64))
 }
 
-/// The description of `name` if it names a line's factor (a prefix and a
-/// whole number of millimetres up to [`MAX_POS_MM`]).
-pub fn along_factor_info(name: &str) -> Option<ParamInfo> {
+/// The position (mm) `name` gives if it names a line's factor: a prefix and
+/// a whole number of millimetres up to [`MAX_POS_MM`], written without
+/// leading zeros. Allocates nothing: it is asked of every parameter name a
+/// calibration sets.
+fn position_mm(name: &str) -> Option<u64> {
     let digits = name.strip_prefix(ROW).or_else(|| name.strip_prefix(LINE))?;
     let plain = !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit());
-    let pos: u64 = digits.parse().ok().filter(|p| plain && *p <= MAX_POS_MM)?;
-    let canonical = format!("{}{pos}", &name[..name.len() - digits.len()]);
-    (canonical == name).then(|| info(intern(canonical)))
+    let canonical = plain && (digits == "0" || !digits.starts_with('0'));
+    digits.parse().ok().filter(|p| canonical && *p <= MAX_POS_MM)
+}
+
+/// Whether `name` names a grid line's along factor.
+pub fn is_along_factor(name: &str) -> bool {
+    position_mm(name).is_some()
+}
+
+/// The description of `name` if it names a line's factor ([`is_along_factor`]).
+pub fn along_factor_info(name: &str) -> Option<ParamInfo> {
+    position_mm(name).map(|_| info(intern(name.to_string())))
 }
 
 #[cfg(test)]
@@ -80,6 +91,7 @@ mod tests {
         assert_eq!(along_factor_info(row).unwrap().name, row);
         assert!(std::ptr::eq(row, row_factor_name(1200.0000001)), "interned once");
         assert_eq!(along_factor_info("along_factor_line_x0").unwrap().default, Some(1.0));
+        assert!(is_along_factor(row) && !is_along_factor("K_friction"));
         for bad in [
             "along_factor_row_y",
             "along_factor_row_y-600",
@@ -89,7 +101,7 @@ mod tests {
             "along_factor_col_x600",
             "K_friction",
         ] {
-            assert!(along_factor_info(bad).is_none(), "{bad}");
+            assert!(along_factor_info(bad).is_none() && !is_along_factor(bad), "{bad}");
         }
     }
 }

@@ -33,7 +33,7 @@
 //! verification models (`ceiling_2p4_linear.json`, `_nonlinear_*.json`).
 //! Units: N, mm.
 
-use super::along::{along_factor_info, line_factor_name, row_factor_name};
+use super::along::{is_along_factor, line_factor_name, row_factor_name};
 use super::grid::{GenerateError, Grid, Member};
 use super::params::Parameters;
 use super::spec::{CeilingSpec, EndCondition};
@@ -89,15 +89,16 @@ fn end_offset(g: &Grid, end: &End) -> f64 {
     gap_offset(pos, along.len())
 }
 
-/// The id of the Gap material `base` with its gap times `factor`: `base`
-/// itself for 1, else an equal material already in `m` or a new one.
-fn scaled_gap(m: &mut Model, base: u64, factor: f64) -> u64 {
-    if factor == 1.0 {
+/// The id of material `base` rescaled by `scale` (None: `base` itself, as
+/// for a material `scale` does not touch): an equal material already in
+/// `m`, or a new one after the others.
+fn rescaled(
+    m: &mut Model,
+    base: u64,
+    scale: impl Fn(&MaterialSpec) -> Option<MaterialSpec>,
+) -> u64 {
+    let Some(spec) = m.materials.iter().find(|d| d.id == base).and_then(|d| scale(&d.spec)) else {
         return base;
-    }
-    let spec = match m.materials.iter().find(|d| d.id == base).map(|d| &d.spec) {
-        Some(MaterialSpec::Gap { k, gap }) => MaterialSpec::Gap { k: *k, gap: gap * factor },
-        _ => return base,
     };
     if let Some(d) = m.materials.iter().find(|d| d.spec == spec) {
         return d.id;
@@ -107,26 +108,29 @@ fn scaled_gap(m: &mut Model, base: u64, factor: f64) -> u64 {
     id
 }
 
+/// The id of the Gap material `base` with its gap times `factor`: `base`
+/// itself for 1, else an equal material already in `m` or a new one.
+fn scaled_gap(m: &mut Model, base: u64, factor: f64) -> u64 {
+    rescaled(m, base, |spec| match spec {
+        MaterialSpec::Gap { k, gap } if factor != 1.0 => {
+            Some(MaterialSpec::Gap { k: *k, gap: gap * factor })
+        }
+        _ => None,
+    })
+}
+
 /// The id of the along-axis material `base` with its stiffness times
 /// `factor` (Elastic k, Steel01 E0; its yield force kept): `base` itself
 /// for 1, else an equal material already in `m` or a new one.
 fn scaled_along(m: &mut Model, base: u64, factor: f64) -> u64 {
-    if factor == 1.0 {
-        return base;
-    }
-    let spec = match m.materials.iter().find(|d| d.id == base).map(|d| &d.spec) {
-        Some(MaterialSpec::Elastic { k }) => MaterialSpec::Elastic { k: k * factor },
-        Some(MaterialSpec::Steel01 { fy, e0, b }) => {
-            MaterialSpec::Steel01 { fy: *fy, e0: e0 * factor, b: *b }
+    rescaled(m, base, |spec| match *spec {
+        _ if factor == 1.0 => None,
+        MaterialSpec::Elastic { k } => Some(MaterialSpec::Elastic { k: k * factor }),
+        MaterialSpec::Steel01 { fy, e0, b } => {
+            Some(MaterialSpec::Steel01 { fy, e0: e0 * factor, b })
         }
-        _ => return base,
-    };
-    if let Some(d) = m.materials.iter().skip(2).find(|d| d.spec == spec) {
-        return d.id;
-    }
-    let id = m.materials.iter().map(|d| d.id).max().unwrap_or(0) + 1;
-    m.materials.push(MaterialDef { id, spec });
-    id
+        _ => None,
+    })
 }
 
 /// The along factor's name of the grid line an end belongs to: its cross-tee
@@ -161,7 +165,7 @@ pub(super) fn sliding_lines(g: &Grid, spec: &CeilingSpec) -> Vec<&'static str> {
 /// on a wall.
 pub(super) fn check_along_factors(g: &Grid, p: &Parameters) -> Result<(), GenerateError> {
     let lines: Vec<&str> = ends(g).iter().map(|e| line_of(g, e)).collect();
-    for (name, _) in p.iter().filter(|(n, _)| along_factor_info(n).is_some()) {
+    for (name, _) in p.iter().filter(|(n, _)| is_along_factor(n)) {
         if !lines.contains(&name) {
             let mut known: Vec<&str> = vec![];
             for l in &lines {

@@ -55,6 +55,12 @@ fn hinged(p: &Parameters) -> bool {
     p.value_or_midpoint("K_rod_rot") < ROTATION_N_MM_PER_RAD
 }
 
+/// The id of the k-th node up the rod hung from grid node `grid`
+/// (1 ≤ k < [`ROD_ELEMENTS`]).
+fn inner_node(grid: u64, k: usize) -> u64 {
+    600000 + 100000 * k as u64 + grid
+}
+
 /// Appends every rod's nodes below the top and its beams; returns the rods.
 pub(super) fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> Rods {
     let sec = section(p);
@@ -71,7 +77,7 @@ pub(super) fn rods(g: &Grid, p: &Parameters, length_mm: f64, m: &mut Model) -> R
                 chain = vec![600000 + id];
             }
             for k in 1..elements {
-                let node = 600000 + 100000 * k as u64 + id;
+                let node = inner_node(id, k);
                 m.nodes.push(Node { id: node, xyz_mm: at(length_mm * k as f64 / elements as f64) });
                 chain.push(node);
             }
@@ -99,7 +105,7 @@ pub(super) fn rod_masses(rods: &Rods, factor: f64) -> Vec<(u64, [f64; 3])> {
         let grid = top.id - 200000;
         out.push((grid, [0.5 * beam_t; 3]));
         for k in 1..rods.elements {
-            out.push((600000 + 100000 * k as u64 + grid, [beam_t, beam_t, 0.0]));
+            out.push((inner_node(grid, k), [beam_t, beam_t, 0.0]));
         }
     }
     out

@@ -103,7 +103,7 @@ pub fn line_prior_rows(priors: &[Prior], theta: &[f64]) -> Vec<f64> {
     priors
         .iter()
         .zip(theta)
-        .filter(|(p, _)| fe::generator::along::along_factor_info(p.name).is_some())
+        .filter(|(p, _)| fe::generator::along::is_along_factor(p.name))
         .map(|(_, v)| v.ln() / LINE_LOG_SD)
         .collect()
 }
