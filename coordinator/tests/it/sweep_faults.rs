@@ -20,7 +20,7 @@ method = "lhs"
 n = 12
 seed = 1
 [farm]
-task_timeout_s = 0.3
+task_timeout_s = 2.0
 max_retries = 1
 "#;
 
@@ -53,7 +53,7 @@ fn failures_are_recorded_and_the_sweep_completes() {
     assert_eq!(status(3), ("failed".into(), "panic: injected panic in task 3".into()));
     assert_eq!(status(5), ("failed".into(), "injected error in task 5".into()));
     assert_eq!(status(7).0, "failed");
-    assert!(status(7).1.starts_with("timeout: no result after 0.3 s"), "{:?}", status(7));
+    assert!(status(7).1.starts_with("timeout: no result after 2 s"), "{:?}", status(7));
     assert_eq!(status(0).0, "ok");
     // Nothing is missing: a later resume has nothing to do.
     let out = ceilfarm_ok(&["run", s(&study), "--store", s(&store), "--resume", "--json"]);
@@ -102,8 +102,9 @@ fn retry_failed_runs_failed_tasks_again() {
         let text = STUDY
             .replace("panic_on = [3]\nerror_on = [5]\nhang_on = [7]", "cost_ms = 300")
             .replace("n = 12", "n = 4")
-            .replace("task_timeout_s = 0.3", &format!("task_timeout_s = {timeout}"))
+            .replace("task_timeout_s = 2.0", &format!("task_timeout_s = {timeout}"))
             .replace("max_retries = 1", "max_retries = 0");
+        assert!(text.contains(&format!("task_timeout_s = {timeout}\n")), "{text}");
         std::fs::write(&path, text).unwrap();
         path
     };
