@@ -23,7 +23,10 @@
 
 use super::fit::Evaluation;
 use crate::bundle::ModalEntry;
-use fe::eigen::{horizontal_share, modal_analysis, LanczosSettings};
+use fe::assembly::Structure;
+use fe::eigen::{
+    horizontal_share, modal_analysis, modal_analysis_on, EigenError, LanczosSettings, ModalResult,
+};
 use fe::generator::generate;
 
 /// Least share of a mode's kinetic energy in x and y for it to count as
@@ -212,29 +215,80 @@ impl Evaluation<'_> {
     /// the bundle has no usable `modal.csv`; an error when the model's
     /// modal analysis fails.
     pub fn modal_fit(&self, theta: &[f64]) -> Option<Result<ModalFit, String>> {
+        self.modal_fit_on(theta, None)
+    }
+
+    /// [`modal_fit`](Self::modal_fit) with the modes found by Rayleigh–Ritz
+    /// on `basis` when given (the modes of a nearby point,
+    /// [`modal_basis`](Self::modal_basis); Lanczos when it does not fit).
+    pub fn modal_fit_on(
+        &self,
+        theta: &[f64],
+        basis: Option<&[Vec<f64>]>,
+    ) -> Option<Result<ModalFit, String>> {
         let entries = self.bundle.modal.as_deref()?;
         let highest = usable(entries).iter().map(|e| e.mode).max()? as usize;
         let step_s = crate::specimen::fe_step_s(self.bundle, self.runs);
-        Some(self.model_frequencies(theta, highest).and_then(|f| {
+        Some(self.model_frequencies(theta, highest, basis).and_then(|f| {
             modal_fit(entries, &f, step_s)
                 .ok_or_else(|| format!("modal analysis gave {} modes: expected {highest}", f.len()))
         }))
     }
 
+    /// The modes at `theta` a Rayleigh–Ritz reanalysis of the modal fit
+    /// near it runs on: `share` times as many as the fit computes (None
+    /// without a usable `modal.csv`).
+    pub fn modal_basis(&self, theta: &[f64], share: f64) -> Option<Result<Vec<Vec<f64>>, String>> {
+        let entries = self.bundle.modal.as_deref()?;
+        let highest = usable(entries).iter().map(|e| e.mode).max()? as usize;
+        let wanted = (modes_for(highest) as f64 * share).ceil() as usize;
+        Some(self.modes(theta, wanted, None).map(|(_, modal)| modal.shapes))
+    }
+
     /// The model's lowest `n` sway frequencies at `theta` (Hz): of the
-    /// lowest 2n + 4 modes, those that [`sway_modes`] keeps.
-    fn model_frequencies(&self, theta: &[f64], n: usize) -> Result<Vec<f64>, String> {
-        let (spec, params, _) = self.setup(theta)?;
-        let model = generate(&spec, &params).map_err(|e| e.to_string())?;
-        let mass_dofs: usize =
-            model.masses.iter().map(|m| m.m_t.iter().filter(|v| **v > 0.0).count()).sum();
-        let wanted = (2 * n + 4).min(mass_dofs).max(n.max(2));
-        let (s, modal) = modal_analysis(&model, wanted, &LanczosSettings::default())
-            .map_err(|e| format!("modal analysis: {e}"))?;
+    /// lowest [`modes_for`]`(n)` modes, those that [`sway_modes`] keeps.
+    fn model_frequencies(
+        &self,
+        theta: &[f64],
+        n: usize,
+        basis: Option<&[Vec<f64>]>,
+    ) -> Result<Vec<f64>, String> {
+        let (s, modal) = self.modes(theta, modes_for(n), basis)?;
         let mut f = sway_modes(&modal.freq_hz, &horizontal_share(&s, &modal));
         f.truncate(n);
         Ok(f)
     }
+
+    /// The lowest `wanted` modes at `theta` (as many as carry mass when
+    /// fewer), by Rayleigh–Ritz on `basis` when it fits the mesh, else by
+    /// Lanczos.
+    fn modes(
+        &self,
+        theta: &[f64],
+        wanted: usize,
+        basis: Option<&[Vec<f64>]>,
+    ) -> Result<(Structure, ModalResult), String> {
+        let (spec, params, _) = self.setup(theta)?;
+        let model = generate(&spec, &params).map_err(|e| e.to_string())?;
+        let mass_dofs: usize =
+            model.masses.iter().map(|m| m.m_t.iter().filter(|v| **v > 0.0).count()).sum();
+        let wanted = wanted.min(mass_dofs).max(2);
+        let ritz = basis.map(|b| modal_analysis_on(&model, b, wanted));
+        match ritz {
+            Some(Ok(found)) => Ok(found),
+            Some(Err(EigenError::Ritz(_))) | None => {
+                modal_analysis(&model, wanted, &LanczosSettings::default())
+            }
+            Some(Err(e)) => Err(e),
+        }
+        .map_err(|e| format!("modal analysis: {e}"))
+    }
+}
+
+/// Modes computed to find the lowest `n` sway modes: 2n + 4 (the vertical
+/// and rod modes between them), at least n.
+fn modes_for(n: usize) -> usize {
+    (2 * n + 4).max(n)
 }
 
 #[cfg(test)]
@@ -320,7 +374,8 @@ mod tests {
         let priors = crate::diagnose::cause::Cause::NONE.priors();
         let runs = [0usize];
         let theta: Vec<f64> = priors.iter().map(|p| p.at(0.5)).collect();
-        let own = Evaluation::baseline(&b, &priors, &runs).model_frequencies(&theta, 3).unwrap();
+        let own =
+            Evaluation::baseline(&b, &priors, &runs).model_frequencies(&theta, 3, None).unwrap();
         // As the runs are integrated (the table a lab would identify from them).
         let step_s = crate::specimen::fe_step_s(&b, &runs);
         assert!(step_s > 0.0);

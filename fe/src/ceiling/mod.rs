@@ -17,8 +17,12 @@ pub mod simulate;
 
 pub use damping::{check_damping_ratio, check_share, rayleigh_on_first_modes, RayleighFit};
 pub use input::{sine_sweep, BaseInput, SineSweep};
-pub use modal_response::{simulate_linear, simulate_linear_runs, LinearSimulation};
-pub use prepare::{damped_model, instrument, prepare, steps_per_sample, DampedModel, PreparedRun};
+pub use modal_response::{
+    simulate_linear, simulate_linear_runs, simulate_linear_runs_on, LinearSimulation,
+};
+pub use prepare::{
+    damped_model, damped_model_on, instrument, prepare, steps_per_sample, DampedModel, PreparedRun,
+};
 pub use sensor::{Direction, Sensor, SensorKind};
 pub use simulate::{
     read_history, run_prepared, simulate, CeilingError, SensorHistory, SimOptions, Simulation,

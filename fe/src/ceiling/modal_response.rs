@@ -21,7 +21,7 @@
 //! Units: the model's N, mm, s, t; base motion mm/s²; sensors m/s² or m.
 
 use super::input::BaseInput;
-use super::prepare::{damped_model, instrument, PreparedRun};
+use super::prepare::{damped_model_on, instrument, PreparedRun};
 use super::sensor::{Sensor, SensorKind};
 use super::simulate::{CeilingError, SensorHistory, SimOptions, Simulation};
 use crate::assembly::Structure;
@@ -71,7 +71,22 @@ pub fn simulate_linear_runs(
     opts: &SimOptions,
     n_modes: usize,
 ) -> Result<Vec<LinearSimulation>, CeilingError> {
-    let dm = damped_model(spec, params, opts, n_modes)?;
+    simulate_linear_runs_on(spec, params, runs, opts, n_modes, None)
+}
+
+/// [`simulate_linear_runs`] with the modes found by Rayleigh–Ritz on
+/// `basis` ([`damped_model_on`]; Lanczos without one, or when it does not
+/// fit the mesh): a model near the one whose modes the basis holds, as the
+/// forward differences of a search are.
+pub fn simulate_linear_runs_on(
+    spec: &CeilingSpec,
+    params: &Parameters,
+    runs: &[(&BaseInput, &[Sensor])],
+    opts: &SimOptions,
+    n_modes: usize,
+    basis: Option<&[Vec<f64>]>,
+) -> Result<Vec<LinearSimulation>, CeilingError> {
+    let dm = damped_model_on(spec, params, opts, n_modes, basis)?;
     runs.iter()
         .map(|(input, sensors)| {
             let run = instrument(&dm, spec, input, sensors, opts)?;

@@ -12,7 +12,7 @@ use super::input::BaseInput;
 use super::sensor::{place, Placement, Sensor, SensorKind};
 use super::simulate::{CeilingError, SimOptions};
 use crate::assembly::Structure;
-use crate::eigen::{modal_analysis, LanczosSettings, ModalResult};
+use crate::eigen::{modal_analysis, modal_analysis_on, EigenError, LanczosSettings, ModalResult};
 use crate::generator::{generate, CeilingSpec, Parameters};
 use crate::model::{Damping, Model};
 use crate::transient::spec::RecorderSpec;
@@ -110,6 +110,21 @@ pub fn damped_model(
     opts: &SimOptions,
     n_modes: usize,
 ) -> Result<DampedModel, CeilingError> {
+    damped_model_on(spec, params, opts, n_modes, None)
+}
+
+/// [`damped_model`] with its modes found by Rayleigh–Ritz on `basis`
+/// ([`crate::eigen::ritz`]) when one is given and fits the model's mesh
+/// (as many entries as its free DOFs, at least as many vectors as modes
+/// wanted, independent under its mass); by Lanczos otherwise. For a model near the one whose modes the
+/// basis holds: the forward differences of a search.
+pub fn damped_model_on(
+    spec: &CeilingSpec,
+    params: &Parameters,
+    opts: &SimOptions,
+    n_modes: usize,
+    basis: Option<&[Vec<f64>]>,
+) -> Result<DampedModel, CeilingError> {
     check_options(opts)?;
     let mut model = generate(spec, params)?;
     for sp in model.springs.iter_mut() {
@@ -119,7 +134,14 @@ pub fn damped_model(
     }
     let first = opts.n_modes.max(2);
     let wanted = n_modes.max(first).min(mass_dofs(&model)).max(first);
-    let (structure, modal) = modal_analysis(&model, wanted, &LanczosSettings::default())?;
+    let ritz = basis.map(|b| modal_analysis_on(&model, b, wanted));
+    let (structure, modal) = match ritz {
+        Some(Ok(found)) => found,
+        Some(Err(EigenError::Ritz(_))) | None => {
+            modal_analysis(&model, wanted, &LanczosSettings::default())?
+        }
+        Some(Err(e)) => return Err(e.into()),
+    };
     let rayleigh = rayleigh_on_first_modes(&first_modes(&modal, first), opts.damping_ratio)
         .ok_or_else(|| CeilingError::Input("no mode moves mass in x or y".into()))?
         .with_mass_share(opts.damping_mass_share);

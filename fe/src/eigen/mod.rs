@@ -5,7 +5,8 @@
 //! [`factor`], if K − σM is indefinite), a dense statically condensed solver
 //! for tests ([`dense`]), and the modal quantities of a model ([`modal`]:
 //! frequencies, mass-normalised shapes, participation factors, effective
-//! masses).
+//! masses), and Rayleigh–Ritz reanalysis on the modes of a nearby model
+//! ([`ritz`]).
 //!
 //! Massless DOFs (the ceiling models carry no rotational mass) give infinite
 //! eigenvalues; shift-invert maps them to θ = 0, so they never appear among
@@ -20,12 +21,14 @@ pub mod modal;
 pub mod ordering;
 pub mod output;
 pub mod plot;
+pub mod ritz;
 pub mod shift_invert;
 pub mod supernodal;
 
 pub use dense::dense_eigen;
 pub use lanczos::{shift_invert_lanczos, LanczosSettings};
-pub use modal::{horizontal_share, modal_analysis, ModalResult};
+pub use modal::{horizontal_share, modal_analysis, modal_analysis_on, ModalResult};
+pub use ritz::{ritz_pairs, RitzError};
 
 /// Eigenvalues ω² (rad²/s², ascending) and mass-normalised vectors (n_free each).
 #[derive(Debug, Clone)]
@@ -68,4 +71,7 @@ pub enum EigenError {
     /// The model could not be assembled.
     #[error(transparent)]
     Assembly(#[from] crate::assembly::AssemblyError),
+    /// A Rayleigh–Ritz reanalysis could not use its basis.
+    #[error("Rayleigh-Ritz: {0}")]
+    Ritz(ritz::RitzError),
 }

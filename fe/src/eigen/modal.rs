@@ -51,6 +51,21 @@ pub fn modal_analysis(
     Ok((s, result))
 }
 
+/// [`modal_analysis`] by Rayleigh–Ritz on `basis` ([`super::ritz`]): the
+/// lowest `n_modes` pairs within its span, for a model near the one whose
+/// modes it holds (the same mesh: a basis of another size is refused).
+pub fn modal_analysis_on(
+    model: &Model,
+    basis: &[Vec<f64>],
+    n_modes: usize,
+) -> Result<(Structure, ModalResult), EigenError> {
+    let s = Structure::new(model)?;
+    let k = s.initial_stiffness();
+    let pairs = super::ritz::ritz_pairs(&s.pattern, &k, &s.mass, basis, n_modes)?;
+    let result = modal_quantities(&s, pairs);
+    Ok((s, result))
+}
+
 /// Each mode's share of its kinetic energy (Σ m φ² over the translations)
 /// in the horizontal translations x and y: near 1 for the sway modes a
 /// shaking table's horizontal sensors identify, near 0 for a vertical mode.

@@ -159,7 +159,7 @@ pub fn linear_stage(
     for start in &starts {
         if let Some(at) = s.levenberg_marquardt(start, ITERATIONS) {
             progress(s.spent, planned);
-            tracing::debug!(f = at.f, u = ?at.u, "linear stage: a local search ended");
+            tracing::debug!(f = at.f, spent = s.spent, u = ?at.u, "linear stage: a local search ended");
             if found.as_ref().is_none_or(|f| at.f < f.f) {
                 found = Some(at);
             }
@@ -204,6 +204,7 @@ fn frequency_fits(s: &mut Searcher<'_, '_>, seed: u64) -> Vec<Vec<f64>> {
         if let Some(at) = s.levenberg_marquardt(&us[k], ITERATIONS) {
             tracing::debug!(
                 f = at.f,
+                spent = s.spent,
                 model_hz = ?at.judged.modal.as_ref().map(|m| m.model_hz.clone()),
                 "linear stage: a frequency fit ended"
             );

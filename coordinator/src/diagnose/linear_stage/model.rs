@@ -11,7 +11,7 @@ use crate::diagnose::cause::Prior;
 use crate::diagnose::fit::{measured_sensors, neg_log_lik, ChannelFit, Evaluation, Simulated};
 use crate::diagnose::modal_fit::{modal_fit, sway_modes, usable, ModalFit};
 use crate::specimen::{base_input, fe_sensor, to_bundle_units};
-use fe::ceiling::{simulate_linear_runs, BaseInput, Sensor};
+use fe::ceiling::{damped_model, simulate_linear_runs_on, BaseInput, Sensor};
 
 /// The modes superposed: enough that the modes left out respond
 /// quasi-statically to inputs below 20 Hz on the ceilings of a lab's table
@@ -19,6 +19,15 @@ use fe::ceiling::{simulate_linear_runs, BaseInput, Sensor};
 /// `the_lowest_forty_modes_miss_little` measures what they leave out), at
 /// most as many as the model has DOFs with mass.
 pub const MODES: usize = 40;
+
+/// Modes of the basis a search's forward differences are reanalysed on
+/// (Rayleigh–Ritz, [`fe::eigen::ritz`]), per mode a point uses: 1.5. A
+/// stepped point's lowest modes are then the projection's on half again as
+/// many: their frequencies' first-order change exact, their shapes' change
+/// exact within the basis and missing only the coupling to modes beyond it,
+/// whose weight falls with the distance in frequency. The function values
+/// the search compares are never reanalysed.
+pub const BASIS_SHARE: f64 = 1.5;
 
 /// The linear model of a bundle on its linear runs.
 pub struct LinearModel<'a> {
@@ -73,6 +82,44 @@ impl LinearModel<'_> {
 
     /// The linear runs simulated at `u` (bundle units) with the modes.
     pub fn simulate(&self, u: &[f64]) -> Result<(Vec<Simulated>, Judged), String> {
+        self.simulate_on(u, None)
+    }
+
+    /// The modes at `u` that [`judge_near`](Self::judge_near) (or, with
+    /// `modal_only`, [`judge_modal_near`](Self::judge_modal_near)) reanalyse
+    /// points near it on: [`BASIS_SHARE`] times as many as a point
+    /// superposes (or fits to `modal.csv`).
+    pub fn basis(&self, u: &[f64], modal_only: bool) -> Result<Vec<Vec<f64>>, String> {
+        let ev = self.evaluation();
+        let theta = self.theta(u);
+        if modal_only {
+            return ev.modal_basis(&theta, BASIS_SHARE).ok_or("the bundle has no modal.csv")?;
+        }
+        let (spec, params, opts) = ev.setup(&theta)?;
+        let wanted = (MODES as f64 * BASIS_SHARE).ceil() as usize;
+        let dm = damped_model(&spec, &params, &opts, wanted).map_err(|e| e.to_string())?;
+        Ok(dm.modal.shapes)
+    }
+
+    /// [`judge`](Self::judge) at a point near the one whose modes `basis`
+    /// holds ([`basis`](Self::basis)), its modes by Rayleigh–Ritz on them.
+    pub fn judge_near(&self, u: &[f64], basis: &[Vec<f64>]) -> Result<Judged, String> {
+        self.simulate_on(u, Some(basis)).map(|(_, j)| j)
+    }
+
+    /// [`judge_modal`](Self::judge_modal) near the point whose modes
+    /// `basis` holds, by Rayleigh–Ritz on them.
+    pub fn judge_modal_near(&self, u: &[f64], basis: &[Vec<f64>]) -> Result<Judged, String> {
+        self.judge_modal_on(u, Some(basis))
+    }
+
+    /// [`simulate`](Self::simulate), the modes by Rayleigh–Ritz on `basis`
+    /// when given and fitting the mesh.
+    fn simulate_on(
+        &self,
+        u: &[f64],
+        basis: Option<&[Vec<f64>]>,
+    ) -> Result<(Vec<Simulated>, Judged), String> {
         let ev = self.evaluation();
         let (spec, params, opts) = ev.setup(&self.theta(u))?;
         let inputs: Vec<(BaseInput, Vec<Sensor>)> = self
@@ -86,7 +133,7 @@ impl LinearModel<'_> {
             .collect();
         let refs: Vec<(&BaseInput, &[Sensor])> =
             inputs.iter().map(|(i, s)| (i, s.as_slice())).collect();
-        let lins = simulate_linear_runs(&spec, &params, &refs, &opts, MODES)
+        let lins = simulate_linear_runs_on(&spec, &params, &refs, &opts, MODES, basis)
             .map_err(|e| format!("linear model: {e}"))?;
         let sims: Vec<Simulated> = self
             .runs
@@ -120,8 +167,12 @@ impl LinearModel<'_> {
     /// The frequencies alone at `u` (one eigen solution, no run): a
     /// [`Judged`] without channels; an error without `modal.csv`.
     pub fn judge_modal(&self, u: &[f64]) -> Result<Judged, String> {
-        let m =
-            self.evaluation().modal_fit(&self.theta(u)).ok_or("the bundle has no modal.csv")??;
+        self.judge_modal_on(u, None)
+    }
+
+    fn judge_modal_on(&self, u: &[f64], basis: Option<&[Vec<f64>]>) -> Result<Judged, String> {
+        let m = (self.evaluation().modal_fit_on(&self.theta(u), basis))
+            .ok_or("the bundle has no modal.csv")??;
         let modes_hz = m.eigen_hz.clone();
         Ok(Judged {
             channels: vec![],
@@ -178,6 +229,55 @@ mod tests {
             (without - Judged { prior_rows: vec![], ..moved.clone() }.neg_log_lik(&n_eff)).abs()
                 < 1e-9
         );
+    }
+
+    /// A forward difference reanalysed on the centre's modes is the exact
+    /// one: on the tiny bundle, at a spread point, every column of the
+    /// residuals' and the frequencies' differences that moves them by more
+    /// than 1e-3 of the largest agrees within 2 % (measured: 0.92 % at most,
+    /// K_cc2's), and what a reanalysis misses of any column is below 1e-3
+    /// of the largest column (measured: 5.2e-5, K_rod_rot's).
+    #[test]
+    fn reanalysed_differences_are_the_exact_ones() {
+        let tmp = tempfile::tempdir().unwrap();
+        let b = tiny_bundle(tmp.path());
+        let runs: Vec<usize> = (0..b.runs.len()).collect();
+        let priors = linear_priors(&b);
+        let d = priors.len();
+        let model = LinearModel { bundle: &b, runs, priors };
+        let u: Vec<f64> = (0..d).map(|k| (0.2 + 0.37 * k as f64) % 1.0).collect();
+        let flat = |j: &Judged| -> Vec<f64> {
+            let mut v: Vec<f64> = j
+                .residuals
+                .iter()
+                .flatten()
+                .map(|x| if x.is_finite() { *x } else { 0.0 })
+                .collect();
+            v.extend(j.modal.as_ref().map(|m| m.residuals_hz()).unwrap_or_default());
+            v
+        };
+        let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let centre = flat(&model.judge(&u).unwrap());
+        let basis = model.basis(&u, false).unwrap();
+        assert!(basis.len() > MODES, "the basis holds more modes than a point uses");
+        let mut columns = vec![];
+        for i in 0..d {
+            let mut v = u.clone();
+            v[i] += if v[i] + 1e-3 <= 1.0 { 1e-3 } else { -1e-3 };
+            let exact = flat(&model.judge(&v).unwrap());
+            let near = flat(&model.judge_near(&v, &basis).unwrap());
+            let de: Vec<f64> = exact.iter().zip(&centre).map(|(a, c)| a - c).collect();
+            let miss: Vec<f64> = exact.iter().zip(&near).map(|(a, n)| a - n).collect();
+            columns.push((model.priors[i].name, norm(&de), norm(&miss)));
+        }
+        let largest = columns.iter().map(|c| c.1).fold(0.0, f64::max);
+        assert!(largest > 0.0);
+        for (name, size, miss) in &columns {
+            assert!(*miss < 1e-3 * largest, "{name}: missed by {miss} (largest column {largest})");
+            if *size > 1e-3 * largest {
+                assert!(miss / size < 0.02, "{name}: relative error {}", miss / size);
+            }
+        }
     }
 
     /// At any point the modal superposition gives the FE transient's

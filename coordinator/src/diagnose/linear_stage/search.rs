@@ -2,7 +2,8 @@
 //! plus the frequencies' −log L, over the unit cube: forward-difference
 //! Jacobians of every channel's residual and of the whitened frequency
 //! residuals (one linear evaluation per dimension, all on the threads at
-//! once), the Gauss–Newton system Σ_c n_c/SSR_c · J_cᵀJ_c + J_mᵀJ_m, steps
+//! once, each stepped point's modes by Rayleigh–Ritz on the centre's:
+//! [`LinearModel::basis`]), the Gauss–Newton system Σ_c n_c/SSR_c · J_cᵀJ_c + J_mᵀJ_m, steps
 //! clamped to the cube, two damping factors tried at once.
 
 use super::model::{Judged, LinearModel};
@@ -65,6 +66,22 @@ impl Searcher<'_, '_> {
         }
     }
 
+    /// Judges points near `centre` on the threads, their modes by
+    /// Rayleigh–Ritz on the centre's ([`LinearModel::basis`]; one modal
+    /// analysis, counted as an evaluation); exactly, as
+    /// [`judge_all`](Self::judge_all), when the centre's modes fail.
+    fn judge_near(&mut self, centre: &[f64], us: &[Vec<f64>]) -> Vec<Result<Judged, String>> {
+        let Ok(basis) = self.model.basis(centre, self.modal_only) else {
+            return self.judge_all(us);
+        };
+        self.spent += us.len() + 1;
+        if self.modal_only {
+            on_threads(us, self.threads, |u| self.model.judge_modal_near(u, &basis))
+        } else {
+            on_threads(us, self.threads, |u| self.model.judge_near(u, &basis))
+        }
+    }
+
     /// The least gain a step must make: [`MIN_GAIN_NATS`] under
     /// effective-sample weights; under weights of about one a channel (the
     /// searches before the residuals are known) the same share of a
@@ -111,6 +128,7 @@ impl Searcher<'_, '_> {
                     None => lambda *= 100.0,
                 }
             }
+            tracing::trace!(f = at.f, gain, spent = self.spent, "linear stage: a search's step");
             if !moved || gain < self.min_gain() {
                 break;
             }
@@ -133,7 +151,7 @@ impl Searcher<'_, '_> {
                 u
             })
             .collect();
-        let judged = self.judge_all(&stepped);
+        let judged = self.judge_near(&at.u, &stepped);
         let rows0 = rows(&at.judged, &at.judged, &self.n_eff);
         let mut jac = DMatrix::zeros(rows0.len(), d);
         for (i, (j, h)) in judged.iter().zip(&hs).enumerate() {
