@@ -69,20 +69,20 @@ pub fn ritz_pairs(
     if n_modes > m {
         return Err(RitzError::TooSmall { requested: n_modes, available: m });
     }
-    let (kr, mr) = projected(pattern, k_values, mass, basis);
+    let b = DMatrix::from_fn(n, m, |i, j| basis[j][i]);
+    let (kr, mr) = projected(pattern, k_values, mass, &b);
     let l = mr.cholesky().ok_or(RitzError::Dependent)?.l();
     let l_inv = l.clone().try_inverse().ok_or(RitzError::Dependent)?;
     let a = &l_inv * kr * l_inv.transpose();
     let eig = SymmetricEigen::new((&a + a.transpose()) * 0.5);
     let mut order: Vec<usize> = (0..m).collect();
     order.sort_by(|x, y| eig.eigenvalues[*x].total_cmp(&eig.eigenvalues[*y]));
-    let coefficients = l_inv.transpose() * &eig.eigenvectors;
+    let lowest: Vec<usize> = order.into_iter().take(n_modes).collect();
+    let y = l_inv.transpose() * eig.eigenvectors.select_columns(&lowest);
+    let shapes = &b * y;
     let mut out = Eigenpairs { omega2: vec![], vectors: vec![] };
-    for &k in order.iter().take(n_modes) {
-        let mut x = vec![0.0; n];
-        for (b, c) in basis.iter().zip(coefficients.column(k).iter()) {
-            x.iter_mut().zip(b).for_each(|(xi, bi)| *xi += c * bi);
-        }
+    for (c, &k) in lowest.iter().enumerate() {
+        let mut x: Vec<f64> = shapes.column(c).iter().copied().collect();
         normalize_sign(&mut x);
         out.omega2.push(eig.eigenvalues[k]);
         out.vectors.push(x);
@@ -90,26 +90,22 @@ pub fn ritz_pairs(
     Ok(out)
 }
 
-/// Bᵀ K B and Bᵀ M B.
+/// Bᵀ K B and Bᵀ M B for the basis B (n × m), as dense products.
 fn projected(
     pattern: &SparsePattern,
     k_values: &[f64],
     mass: &[f64],
-    basis: &[Vec<f64>],
+    b: &DMatrix<f64>,
 ) -> (DMatrix<f64>, DMatrix<f64>) {
-    let m = basis.len();
-    let mut kb = vec![0.0; pattern.n];
-    let (mut kr, mut mr) = (DMatrix::zeros(m, m), DMatrix::zeros(m, m));
-    for (j, bj) in basis.iter().enumerate() {
-        pattern.mul_vec(k_values, bj, &mut kb);
-        for (i, bi) in basis.iter().enumerate().skip(j) {
-            let k: f64 = bi.iter().zip(&kb).map(|(a, b)| a * b).sum();
-            let mm: f64 = bi.iter().zip(bj).zip(mass).map(|((a, b), w)| a * b * w).sum();
-            (kr[(i, j)], kr[(j, i)]) = (k, k);
-            (mr[(i, j)], mr[(j, i)]) = (mm, mm);
-        }
+    let (n, m) = b.shape();
+    let mut kb = DMatrix::zeros(n, m);
+    for j in 0..m {
+        let mut col = vec![0.0; n];
+        pattern.mul_vec(k_values, b.column(j).as_slice(), &mut col);
+        kb.column_mut(j).copy_from_slice(&col);
     }
-    (kr, mr)
+    let scaled = DMatrix::from_fn(n, m, |i, j| b[(i, j)] * mass[i].max(0.0).sqrt());
+    (b.transpose() * kb, scaled.transpose() * &scaled)
 }
 
 #[cfg(test)]
