@@ -69,6 +69,9 @@ pub fn ritz_pairs(
     if n_modes > m {
         return Err(RitzError::TooSmall { requested: n_modes, available: m });
     }
+    if n_modes == 0 {
+        return Ok(Eigenpairs { omega2: vec![], vectors: vec![] });
+    }
     let b = DMatrix::from_fn(n, m, |i, j| basis[j][i]);
     let (kr, mr) = projected(pattern, k_values, mass, &b);
     let l = mr.cholesky().ok_or(RitzError::Dependent)?.l();
@@ -155,6 +158,8 @@ mod tests {
             ritz_pairs(&p, &k, &m, &one, 2).unwrap_err(),
             RitzError::TooSmall { requested: 2, available: 1 }
         );
+        let none = ritz_pairs(&p, &k, &m, &[], 0).unwrap();
+        assert!(none.omega2.is_empty() && none.vectors.is_empty());
         let twice = vec![vec![1.0; 6], vec![2.0; 6]];
         assert_eq!(ritz_pairs(&p, &k, &m, &twice, 1).unwrap_err(), RitzError::Dependent);
     }
