@@ -24,9 +24,7 @@
 use super::fit::Evaluation;
 use crate::bundle::ModalEntry;
 use fe::assembly::Structure;
-use fe::eigen::{
-    horizontal_share, modal_analysis, modal_analysis_on, EigenError, LanczosSettings, ModalResult,
-};
+use fe::eigen::{horizontal_share, modal_analysis_on, LanczosSettings, ModalResult};
 use fe::generator::generate;
 
 /// Least share of a mode's kinetic energy in x and y for it to count as
@@ -270,18 +268,9 @@ impl Evaluation<'_> {
     ) -> Result<(Structure, ModalResult), String> {
         let (spec, params, _) = self.setup(theta)?;
         let model = generate(&spec, &params).map_err(|e| e.to_string())?;
-        let mass_dofs: usize =
-            model.masses.iter().map(|m| m.m_t.iter().filter(|v| **v > 0.0).count()).sum();
-        let wanted = wanted.min(mass_dofs).max(2);
-        let ritz = basis.map(|b| modal_analysis_on(&model, b, wanted));
-        match ritz {
-            Some(Ok(found)) => Ok(found),
-            Some(Err(EigenError::Ritz(_))) | None => {
-                modal_analysis(&model, wanted, &LanczosSettings::default())
-            }
-            Some(Err(e)) => Err(e),
-        }
-        .map_err(|e| format!("modal analysis: {e}"))
+        let wanted = wanted.min(model.mass_dofs()).max(2);
+        modal_analysis_on(&model, basis, wanted, &LanczosSettings::default())
+            .map_err(|e| format!("modal analysis: {e}"))
     }
 }
 

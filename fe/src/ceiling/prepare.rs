@@ -12,7 +12,7 @@ use super::input::BaseInput;
 use super::sensor::{place, Placement, Sensor, SensorKind};
 use super::simulate::{CeilingError, SimOptions};
 use crate::assembly::Structure;
-use crate::eigen::{modal_analysis, modal_analysis_on, EigenError, LanczosSettings, ModalResult};
+use crate::eigen::{modal_analysis_on, LanczosSettings, ModalResult};
 use crate::generator::{generate, CeilingSpec, Parameters};
 use crate::model::{Damping, Model};
 use crate::transient::spec::RecorderSpec;
@@ -113,11 +113,11 @@ pub fn damped_model(
     damped_model_on(spec, params, opts, n_modes, None)
 }
 
-/// [`damped_model`] with its modes found by Rayleigh–Ritz on `basis`
-/// ([`crate::eigen::ritz`]) when one is given and fits the model's mesh
-/// (as many entries as its free DOFs, at least as many vectors as modes
-/// wanted, independent under its mass); by Lanczos otherwise. For a model near the one whose modes the
-/// basis holds: the forward differences of a search.
+/// [`damped_model`] with its modes found by Rayleigh–Ritz on `basis` when
+/// one is given and can carry the model
+/// ([`crate::eigen::modal_analysis_on`]), by Lanczos otherwise: for a model
+/// near the one whose modes the basis holds, as a search's forward
+/// differences are.
 pub fn damped_model_on(
     spec: &CeilingSpec,
     params: &Parameters,
@@ -133,15 +133,8 @@ pub fn damped_model_on(
         }
     }
     let first = opts.n_modes.max(2);
-    let wanted = n_modes.max(first).min(mass_dofs(&model)).max(first);
-    let ritz = basis.map(|b| modal_analysis_on(&model, b, wanted));
-    let (structure, modal) = match ritz {
-        Some(Ok(found)) => found,
-        Some(Err(EigenError::Ritz(_))) | None => {
-            modal_analysis(&model, wanted, &LanczosSettings::default())?
-        }
-        Some(Err(e)) => return Err(e.into()),
-    };
+    let wanted = n_modes.max(first).min(model.mass_dofs()).max(first);
+    let (structure, modal) = modal_analysis_on(&model, basis, wanted, &LanczosSettings::default())?;
     let rayleigh = rayleigh_on_first_modes(&first_modes(&modal, first), opts.damping_ratio)
         .ok_or_else(|| CeilingError::Input("no mode moves mass in x or y".into()))?
         .with_mass_share(opts.damping_mass_share);
@@ -190,11 +183,6 @@ pub fn instrument(
         output_every_n_steps: steps,
         input_dt_s: input.dt_s,
     })
-}
-
-/// Translational DOFs that carry mass (an upper bound on the modes).
-fn mass_dofs(model: &Model) -> usize {
-    model.masses.iter().map(|m| m.m_t.iter().filter(|v| **v > 0.0).count()).sum()
 }
 
 /// The first `n` of `modal`'s modes.

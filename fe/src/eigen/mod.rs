@@ -71,7 +71,4 @@ pub enum EigenError {
     /// The model could not be assembled.
     #[error(transparent)]
     Assembly(#[from] crate::assembly::AssemblyError),
-    /// A Rayleigh–Ritz reanalysis could not use its basis.
-    #[error("Rayleigh-Ritz: {0}")]
-    Ritz(ritz::RitzError),
 }

@@ -3,6 +3,7 @@
 //! (Chopra, *Dynamics of Structures*, 13.1).
 
 use super::lanczos::{shift_invert_lanczos, LanczosSettings};
+use super::ritz::ritz_pairs;
 use super::{EigenError, Eigenpairs};
 use crate::assembly::Structure;
 use crate::model::Model;
@@ -51,17 +52,23 @@ pub fn modal_analysis(
     Ok((s, result))
 }
 
-/// [`modal_analysis`] by Rayleigh–Ritz on `basis` ([`super::ritz`]): the
-/// lowest `n_modes` pairs within its span, for a model near the one whose
-/// modes it holds (the same mesh: a basis of another size is refused).
+/// [`modal_analysis`], by Rayleigh–Ritz on `basis` ([`super::ritz`]) when
+/// one is given and it can carry the model (a model near the one whose
+/// modes it holds: the same mesh, at least `n_modes` vectors independent
+/// under its mass); by Lanczos otherwise.
 pub fn modal_analysis_on(
     model: &Model,
-    basis: &[Vec<f64>],
+    basis: Option<&[Vec<f64>]>,
     n_modes: usize,
+    settings: &LanczosSettings,
 ) -> Result<(Structure, ModalResult), EigenError> {
     let s = Structure::new(model)?;
     let k = s.initial_stiffness();
-    let pairs = super::ritz::ritz_pairs(&s.pattern, &k, &s.mass, basis, n_modes)?;
+    let ritz = basis.and_then(|b| ritz_pairs(&s.pattern, &k, &s.mass, b, n_modes).ok());
+    let pairs = match ritz {
+        Some(pairs) => pairs,
+        None => shift_invert_lanczos(&s.pattern, &k, &s.mass, n_modes, settings)?,
+    };
     let result = modal_quantities(&s, pairs);
     Ok((s, result))
 }

@@ -17,7 +17,7 @@
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use super::lanczos::normalize_sign;
-use super::{EigenError, Eigenpairs};
+use super::Eigenpairs;
 use crate::assembly::SparsePattern;
 
 /// Why a basis cannot carry a Ritz reanalysis.
@@ -46,12 +46,6 @@ pub enum RitzError {
     Dependent,
 }
 
-impl From<RitzError> for EigenError {
-    fn from(e: RitzError) -> Self {
-        EigenError::Ritz(e)
-    }
-}
-
 /// The lowest `n_modes` Ritz pairs of K (values on `pattern`) and diagonal
 /// M in the span of `basis` (ascending, mass-normalised, sign as
 /// [`normalize_sign`] sets it).
@@ -75,7 +69,7 @@ pub fn ritz_pairs(
     let b = DMatrix::from_fn(n, m, |i, j| basis[j][i]);
     let (kr, mr) = projected(pattern, k_values, mass, &b);
     let l = mr.cholesky().ok_or(RitzError::Dependent)?.l();
-    let l_inv = l.clone().try_inverse().ok_or(RitzError::Dependent)?;
+    let l_inv = l.try_inverse().ok_or(RitzError::Dependent)?;
     let a = &l_inv * kr * l_inv.transpose();
     let eig = SymmetricEigen::new((&a + a.transpose()) * 0.5);
     let mut order: Vec<usize> = (0..m).collect();

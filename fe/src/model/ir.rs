@@ -82,6 +82,12 @@ impl Model {
             meta: None,
         }
     }
+
+    /// DOFs that carry mass (each positive entry of each lumped mass): the
+    /// most modes an eigen solution can have.
+    pub fn mass_dofs(&self) -> usize {
+        self.masses.iter().map(|m| m.m_t.iter().filter(|v| **v > 0.0).count()).sum()
+    }
 }
 
 /// The `units` block.

@@ -3,8 +3,9 @@
 //! Jacobians of every channel's residual and of the whitened frequency
 //! residuals (one linear evaluation per dimension, all on the threads at
 //! once, each stepped point's modes by Rayleigh–Ritz on the centre's:
-//! [`LinearModel::basis`]), the Gauss–Newton system Σ_c n_c/SSR_c · J_cᵀJ_c + J_mᵀJ_m, steps
-//! clamped to the cube, two damping factors tried at once.
+//! [`LinearModel::basis`]), the Gauss–Newton system
+//! Σ_c n_c/SSR_c · J_cᵀJ_c + J_mᵀJ_m, steps clamped to the cube, two
+//! damping factors tried at once.
 
 use super::model::{Judged, LinearModel};
 use crate::diagnose::executor::on_threads;
