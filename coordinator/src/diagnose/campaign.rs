@@ -10,7 +10,10 @@
 //! for bit.
 
 use super::cause::Demand;
-use super::fit::{measured_sensors, Evaluation, Simulated, CONNECTION_GROUP, PERIMETER_GROUP};
+use super::fit::{
+    measured_sensors, Evaluation, Simulated, CONNECTION_GROUP, CONNECTION_TRANSVERSE_GROUP,
+    DEMAND_GROUPS, PERIMETER_GROUP,
+};
 use crate::bundle::{self, Bundle};
 use crate::specimen::{run_options, to_bundle_units};
 use crate::study::hash_keys;
@@ -48,7 +51,7 @@ pub fn campaign_study(ev: &Evaluation<'_>, purpose: Purpose) -> Result<CampaignS
     let spec_toml = toml::to_string(&spec).map_err(|e| format!("specimen as TOML: {e}"))?;
     let (groups, with_sensors) = match purpose {
         Purpose::Histories => (vec![], true),
-        Purpose::Demand => (vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()], false),
+        Purpose::Demand => (DEMAND_GROUPS.map(String::from).to_vec(), false),
     };
     let runs = ev.runs.iter().map(|&k| campaign_run(ev.bundle, k, with_sensors)).collect();
     let sim = run_options(SimOptions::default().damping_ratio);
@@ -183,6 +186,7 @@ pub fn demand(ev: &Evaluation<'_>, out: &Outputs) -> Result<Demand, String> {
         perimeter_mm: get(format!("{PERIMETER_GROUP}_deformation_mm"))?,
         perimeter_n: get(format!("{PERIMETER_GROUP}_force_n"))?,
         connection_n: get(format!("{CONNECTION_GROUP}_force_n"))?,
+        connection_transverse_n: get(format!("{CONNECTION_TRANSVERSE_GROUP}_force_n"))?,
         nominal_gap_mm: ev.fe_spec()?.structure.nominal_gap_mm,
     })
 }

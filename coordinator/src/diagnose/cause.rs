@@ -142,6 +142,8 @@ pub struct Demand {
     pub perimeter_n: f64,
     /// Peak |axial force| of the grid connections (N).
     pub connection_n: f64,
+    /// Peak |in-plane transverse force| of the grid connections (N).
+    pub connection_transverse_n: f64,
     /// Nominal gap of the specimen (mm).
     pub nominal_gap_mm: f64,
 }
@@ -154,6 +156,8 @@ pub struct Demand {
 pub struct LinearPart {
     /// The parameter whose value sets the onset (held at its prior's top).
     pub onset: &'static str,
+    /// Further onsets of the extension, held at their priors' tops too.
+    pub also_beyond: &'static [&'static str],
     /// The extension's own parameters that act below the onset.
     pub linear: &'static [&'static str],
     /// The value of each of `linear` at which the linear part is the
@@ -412,7 +416,7 @@ mod tests {
         assert_eq!(all.model_options().connections, Connections::Pinching4);
         assert_eq!(all.model_options().perimeter, Perimeter::FrictionPounding);
         let names: Vec<&str> = all.extra_priors().iter().map(|p| p.name).collect();
-        assert_eq!(names.len(), 8);
+        assert_eq!(names.len(), 9);
         assert_eq!(
             &names[..4],
             ["gap_over_demand", "impact_factor", "slip_over_demand", "friction_b"]
@@ -448,6 +452,7 @@ mod tests {
             perimeter_mm: 0.8,
             perimeter_n: 15.0,
             connection_n: 12.0,
+            connection_transverse_n: 12.0,
             nominal_gap_mm: 19.0,
         };
         let mut structure = crate::diagnose::testkit::square_structure(2.4, 19.0);

@@ -72,6 +72,11 @@ pub const PERIMETER_GROUP: &str = "perimeter_friction";
 pub const PERIMETER_ACROSS_GROUP: &str = "perimeter_friction_across";
 /// Spring group of the grid connections' axial springs.
 pub const CONNECTION_GROUP: &str = "connection_axial";
+/// Spring group of the grid connections' in-plane transverse springs.
+pub const CONNECTION_TRANSVERSE_GROUP: &str = "connection_transverse";
+/// The spring groups whose peaks make a [`Demand`], in its order.
+pub const DEMAND_GROUPS: [&str; 3] =
+    [PERIMETER_GROUP, CONNECTION_GROUP, CONNECTION_TRANSVERSE_GROUP];
 /// The calibrated parameter that sets the Rayleigh damping ratio.
 pub const DAMPING_RATIO: &str = "damping_ratio";
 /// The solver parameter that puts the flagged springs' Rayleigh stiffness
@@ -128,13 +133,17 @@ impl Evaluation<'_> {
     /// ([`Bundle::linear_form`]) for every name `theta` does not set.
     pub fn assignments(&self, theta: &[f64]) -> Vec<(&'static str, f64)> {
         let held = self.held();
-        let named: Vec<(&str, f64)> = (held.iter().copied())
+        // An effect's mapping reads the whole held linear form: Pinching4
+        // joints start at the held K_cc1, which their variant does not
+        // take as a parameter.
+        let named: Vec<(&str, f64)> = (self.bundle.linear_form.iter().copied())
             .chain(self.priors.iter().map(|p| p.name).zip(theta.iter().copied()))
             .collect();
         let demand = self.demand.unwrap_or(Demand {
             perimeter_mm: 1.0,
             perimeter_n: 1.0,
             connection_n: 1.0,
+            connection_transverse_n: 1.0,
             nominal_gap_mm: 1.0,
         });
         let mut own = Vec::new();
@@ -210,15 +219,17 @@ impl Evaluation<'_> {
             .collect()
     }
 
-    /// Peak perimeter deformation and force and peak connection force over
-    /// the runs at `theta` (0 for a group the variant lacks).
+    /// Peak perimeter deformation and force and peak connection forces
+    /// (axial, transverse) over the runs at `theta` (0 for a group the
+    /// variant lacks).
     pub fn demand_at(&self, theta: &[f64]) -> Result<Demand, String> {
         let (spec, params, mut opts) = self.setup(theta)?;
-        opts.spring_groups = vec![PERIMETER_GROUP.into(), CONNECTION_GROUP.into()];
+        opts.spring_groups = DEMAND_GROUPS.map(String::from).to_vec();
         let mut d = Demand {
             perimeter_mm: 0.0,
             perimeter_n: 0.0,
             connection_n: 0.0,
+            connection_transverse_n: 0.0,
             nominal_gap_mm: spec.structure.nominal_gap_mm,
         };
         for &k in self.runs {
@@ -228,6 +239,7 @@ impl Evaluation<'_> {
             d.perimeter_mm = d.perimeter_mm.max(sim.spring_peaks[0].deformation_mm);
             d.perimeter_n = d.perimeter_n.max(sim.spring_peaks[0].force_n);
             d.connection_n = d.connection_n.max(sim.spring_peaks[1].force_n);
+            d.connection_transverse_n = d.connection_transverse_n.max(sim.spring_peaks[2].force_n);
         }
         Ok(d)
     }

@@ -36,12 +36,16 @@ pub fn calibrate_linear_part(
     let Some(best) = ext.best(n_eff) else { return Ok(None) };
     let index = |name: &str| ext.priors.iter().position(|p| p.name == name);
     let Some(onset) = index(part.onset) else { return Ok(None) };
+    let beyond: Vec<usize> =
+        std::iter::once(onset).chain(part.also_beyond.iter().filter_map(|n| index(n))).collect();
     let n_base = ext.n_base();
     let linear: Vec<usize> =
         (0..n_base).chain(part.linear.iter().filter_map(|n| index(n))).collect();
     let own = ext.own_parameters();
     let mut from_ext = ext.points[best].u.clone();
-    from_ext[onset] = 1.0;
+    for &i in &beyond {
+        from_ext[i] = 1.0;
+    }
     let nested = nested_start(ext, &part, base, &from_ext);
     let mut twin = ext.restarted(linear.clone());
     let ev = ext.evaluation(bundle, runs);

@@ -6,7 +6,9 @@
 //! - tee joints: where a member ends at a continuous one, each ending
 //!   piece gets its own node, coincident with the grid node and joined to it
 //!   by six springs in the ending member's axes: axial K_cc1 (or the scaled
-//!   CJS-A Pinching4), in-plane transverse K_cc2, vertical K_cc3 (Table 6.1:
+//!   CJS-A Pinching4), in-plane transverse K_cc2 (or, when
+//!   `conn_transverse_force_scale` is given, a CJS-A Pinching4 too),
+//!   vertical K_cc3 (Table 6.1:
 //!   X, Y, Z for the cross tees), rotations [`ROTATION_N_MM_PER_RAD`] (in
 //!   the plane `K_joint_rot` when given: a semi-rigid joint). The
 //!   cross tees end at the main tees; the sub cross tees end at the cross
@@ -107,27 +109,20 @@ struct Mats {
 
 /// Appends the connection materials after the existing ones.
 fn materials(spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Mats {
-    let axial = match spec.model.connections {
-        Connections::Pinching4 => {
-            let mut set = cjs_a(
-                p.value_or_midpoint("conn_force_scale"),
-                p.value_or_midpoint("conn_disp_scale"),
-            );
-            let reload = p.value_or_midpoint("conn_reload_force");
-            (set.rForceP, set.rForceN) = (reload, reload);
-            let unload = CJS_A_UNLOAD_FORCE + p.value_or_midpoint("conn_unload_shift");
-            (set.uForceP, set.uForceN) = (unload, unload);
-            let ratio = p.value_or_midpoint("conn_compression_ratio");
-            if ratio != CJS_A_COMPRESSION_RATIO {
-                set_compression_ratio(&mut set, ratio);
-            }
-            MaterialSpec::Pinching4(Box::new(set))
-        }
-        _ => MaterialSpec::Elastic { k: p.value_or_midpoint("K_cc1") },
+    let pinching4 = spec.model.connections == Connections::Pinching4;
+    let axial = if pinching4 {
+        joint_set(p, "conn_force_scale", "conn_disp_scale")
+    } else {
+        MaterialSpec::Elastic { k: p.value_or_midpoint("K_cc1") }
+    };
+    let transverse = if pinching4 && p.value_or_midpoint("conn_transverse_force_scale") > 0.0 {
+        joint_set(p, "conn_transverse_force_scale", "conn_transverse_disp_scale")
+    } else {
+        MaterialSpec::Elastic { k: p.value_or_midpoint("K_cc2") }
     };
     let list = [
         axial,
-        MaterialSpec::Elastic { k: p.value_or_midpoint("K_cc2") },
+        transverse,
         MaterialSpec::Elastic { k: p.value_or_midpoint("K_cc3") },
         MaterialSpec::Elastic { k: p.value_or_midpoint("K_mc") },
         MaterialSpec::Elastic { k: SPLICE_RESTRAINT_N_PER_MM },
@@ -153,6 +148,23 @@ fn materials(spec: &CeilingSpec, p: &Parameters, m: &mut Model) -> Mats {
         rotation: first + 5,
         plan_rotation,
     }
+}
+
+/// A tee joint's CJS-A Pinching4 spring, its forces and deformations times
+/// the parameters named `force` and `disp`, its pinching, unloading and
+/// compression ratio the joint's (`conn_reload_force`, `conn_unload_shift`,
+/// `conn_compression_ratio`).
+fn joint_set(p: &Parameters, force: &str, disp: &str) -> MaterialSpec {
+    let mut set = cjs_a(p.value_or_midpoint(force), p.value_or_midpoint(disp));
+    let reload = p.value_or_midpoint("conn_reload_force");
+    (set.rForceP, set.rForceN) = (reload, reload);
+    let unload = CJS_A_UNLOAD_FORCE + p.value_or_midpoint("conn_unload_shift");
+    (set.uForceP, set.uForceN) = (unload, unload);
+    let ratio = p.value_or_midpoint("conn_compression_ratio");
+    if ratio != CJS_A_COMPRESSION_RATIO {
+        set_compression_ratio(&mut set, ratio);
+    }
+    MaterialSpec::Pinching4(Box::new(set))
 }
 
 /// One connection: the grid node, the piece's node, the piece's axis DOF

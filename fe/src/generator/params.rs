@@ -132,6 +132,14 @@ pub const PARAMETERS: [ParamInfo; 15] = [
 ///   set by moving the first compression deformation alone; 1 makes the
 ///   joint below its first backbone point the elastic K_cc1 spring in both
 ///   directions;
+/// - `conn_transverse_force_scale` (0 unless given: the spring stays the
+///   elastic K_cc2), `conn_transverse_disp_scale` (1 unless given): the tee
+///   joints' in-plane transverse spring as the CJS-A Pinching4 too, its
+///   forces and deformations times these, its pinching, unloading and
+///   compression ratio those of the axial joint: a cross tee loaded across
+///   its axis (a ceiling shaken along the main tees) bends and works its
+///   tab in the slot, and yields and pinches as it does when pulled; the
+///   seed modelled the axial direction alone (5.1.1);
 /// - `channel_mass_kg_per_m` U(0, 4.5) kg/m, 0 unless given: the carrying
 ///   channels of a double-layer ceiling, which run along x through every
 ///   row of rods above the grid, as mass shared among the row's rod nodes
@@ -141,7 +149,7 @@ pub const PARAMETERS: [ParamInfo; 15] = [
 ///   seed's U50x15x1 section (A 70 mm², Iy 2.9e4 mm⁴, Iz 1.6e3 mm⁴, J 27 mm⁴,
 ///   web vertical) on the tees' E and G: 1 joins them rigidly to the main
 ///   tees, less stands for the clips' give.
-pub const EXTENSIONS: [ParamInfo; 12] = [
+pub const EXTENSIONS: [ParamInfo; 14] = [
     p("friction_fy_N", "N", 0.5, 3.5, true),
     ParamInfo { domain: Domain::Fraction, ..p("friction_b", "-", 0.0, 0.1, true) },
     p("gap_ratio", "-", 0.5, 1.5, true),
@@ -155,6 +163,12 @@ pub const EXTENSIONS: [ParamInfo; 12] = [
         default: Some(CJS_A_COMPRESSION_RATIO),
         ..p("conn_compression_ratio", "-", 0.5, 2.0, true)
     },
+    ParamInfo {
+        domain: Domain::NonNegative,
+        default: Some(0.0),
+        ..p("conn_transverse_force_scale", "-", 0.0, 1.5, true)
+    },
+    ParamInfo { default: Some(1.0), ..p("conn_transverse_disp_scale", "-", 0.5, 1.5, true) },
     ParamInfo {
         domain: Domain::NonNegative,
         default: Some(0.0),
@@ -217,12 +231,14 @@ fn all_params() -> impl Iterator<Item = &'static ParamInfo> {
 }
 
 /// The parameters of the Pinching4 connections (`connections = "pinching4"`).
-const PINCHING4_PARAMS: [&str; 5] = [
+const PINCHING4_PARAMS: [&str; 7] = [
     "conn_force_scale",
     "conn_disp_scale",
     "conn_reload_force",
     "conn_unload_shift",
     "conn_compression_ratio",
+    "conn_transverse_force_scale",
+    "conn_transverse_disp_scale",
 ];
 
 /// Which model choice a parameter needs (for the refusal message).

@@ -13,7 +13,7 @@ use fe::generator::{
     generate, parameters_for, CeilingSpec, Connections, GenerateError, ModelOptions, ParamError,
     Parameters, Perimeter,
 };
-use fe::materials::build;
+use fe::materials::{build, MaterialSpec};
 use fe::model::{validate, Analysis, Damping, Model};
 use fe::transient::{run_model, History, TransientOptions};
 use serde_json::json;
@@ -177,6 +177,8 @@ fn parameter_sets_follow_the_variant() {
         "conn_reload_force",
         "conn_unload_shift",
         "conn_compression_ratio",
+        "conn_transverse_force_scale",
+        "conn_transverse_disp_scale",
     ]);
     let mut with_joints = with_channels(expected);
     // The joints' turn comes before the rods' in the linear form.
@@ -425,6 +427,54 @@ fn symmetric_pinching4_joint_below_its_first_point_is_the_elastic_joint() {
     }
     let moved = f_el.iter().zip(&f_cjs).map(|(a, b)| (b - a).abs() / a).fold(0.0, f64::max);
     assert!(moved > 1e-4, "Table 5.4's stiffer compression side moves a mode: {moved}");
+    same_sweep_history(&m_el, &m_sym);
+}
+
+/// The tee joints' transverse spring is the elastic K_cc2 unless
+/// `conn_transverse_force_scale` is given; then a CJS-A Pinching4 scaled by
+/// it and `conn_transverse_disp_scale`, with the axial joint's pinching and
+/// unloading. A symmetric one whose first point lies beyond reach, on both
+/// directions, is the elastic joint again (frequencies and history).
+#[test]
+fn transverse_joint_springs_yield_only_when_given() {
+    let pinching = specimen(2.4, 2.4, Perimeter::Linear, Connections::Pinching4);
+    let material = |m: &Model, group: &str| {
+        let s = m.springs.iter().find(|s| s.group.as_deref() == Some(group)).unwrap();
+        m.materials.iter().find(|d| d.id == s.mat).unwrap().spec.clone()
+    };
+    let mut p = Parameters::prior_midpoints_for(&pinching);
+    let k_cc2 = p.value_or_midpoint("K_cc2");
+    let m = generate(&pinching, &p).unwrap();
+    assert_eq!(material(&m, "connection_transverse").type_name(), "Elastic");
+    assert_eq!(material(&m, "connection_transverse").initial_tangent(), k_cc2);
+    let (fs, ds) = (0.04, 0.2);
+    p.set("conn_transverse_force_scale", fs).unwrap();
+    p.set("conn_transverse_disp_scale", ds).unwrap();
+    p.set("conn_reload_force", 0.27).unwrap();
+    let m = generate(&pinching, &p).unwrap();
+    let MaterialSpec::Pinching4(set) = material(&m, "connection_transverse") else {
+        panic!("the transverse joint is not a Pinching4")
+    };
+    assert_eq!((set.ePf[0], set.ePd[0]), (150.0 * fs, 0.5 * ds));
+    assert_eq!((set.rForceP, set.rForceN), (0.27, 0.27));
+    assert!(p.clone().set("conn_transverse_force_scale", -1.0).is_err());
+    let elastic = specimen(2.4, 2.4, Perimeter::Linear, Connections::Elastic);
+    let p_el = Parameters::prior_midpoints_for(&elastic);
+    let k_cc1 = p_el.value_or_midpoint("K_cc1");
+    let mut beyond = Parameters::prior_midpoints_for(&pinching);
+    for (force, disp, k) in [
+        ("conn_force_scale", "conn_disp_scale", k_cc1),
+        ("conn_transverse_force_scale", "conn_transverse_disp_scale", k_cc2),
+    ] {
+        beyond.set(force, 100.0).unwrap();
+        beyond.set(disp, 300.0 * 100.0 / k).unwrap();
+    }
+    beyond.set("conn_compression_ratio", 1.0).unwrap();
+    let (m_el, m_sym) = (generate(&elastic, &p_el).unwrap(), generate(&pinching, &beyond).unwrap());
+    assert_eq!(material(&m_sym, "connection_transverse").type_name(), "Pinching4");
+    for (a, b) in frequencies(&m_el, 6).iter().zip(&frequencies(&m_sym, 6)) {
+        assert!((a - b).abs() <= 1e-9 * a, "elastic {a} Hz, Pinching4 joints {b} Hz");
+    }
     same_sweep_history(&m_el, &m_sym);
 }
 

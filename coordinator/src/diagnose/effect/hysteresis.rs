@@ -1,5 +1,6 @@
 //! Connection hysteresis: the grid connections soften, yield and pinch (the
-//! tee joints' axial spring a scaled CJS-A Pinching4).
+//! tee joints' axial spring a scaled CJS-A Pinching4, and their in-plane
+//! transverse spring another, each with its own onset).
 
 use super::{Effect, FLOOR};
 use crate::diagnose::cause::{Demand, LinearPart, Prior};
@@ -40,8 +41,25 @@ const SYMMETRIC_FIRST_SLOPE: f64 = 1.0;
 /// their backbone's peak (gain −8.9 on such an OpenSees campaign; 0.97 with
 /// it freed, uForce found 0.096). Explored from the start, it left a six-dimensional
 /// design too sparse to find the valley (gain −2.3).
-const PRIORS: [Prior; 4] = [
+///
+/// The transverse onset is the joints' first backbone force across their
+/// member over the baseline's peak transverse connection force, on the
+/// axial onset's prior: a cross tee shaken across its axis works its tab in
+/// the slot as one pulled along it does, and a joint's strength either way
+/// is its own (the seed tested pull-out alone). At its prior's top the
+/// transverse springs stay the baseline's up to the calibration runs'
+/// demand, so the class holds axial hysteresis alone; at the axial onset's
+/// top, transverse alone.
+const PRIORS: [Prior; 5] = [
     Prior { name: "yield_over_demand", unit: "-", low: 0.1, high: 1.5, log: true, reference: None },
+    Prior {
+        name: "transverse_yield_over_demand",
+        unit: "-",
+        low: 0.1,
+        high: 1.5,
+        log: true,
+        reference: None,
+    },
     Prior {
         name: "conn_stiffness_factor",
         unit: "-",
@@ -115,7 +133,25 @@ impl Effect for ConnectionHysteresis {
                     ("conn_compression_ratio", SYMMETRIC_FIRST_SLOPE),
                 ])
             }
-            // Acts through the yield force's displacement scale above.
+            "transverse_yield_over_demand" => {
+                if demand.connection_transverse_n.is_nan() || demand.connection_transverse_n <= 0.0
+                {
+                    // No joint is loaded across: the springs stay elastic.
+                    return Some(vec![]);
+                }
+                let force =
+                    (value * demand.connection_transverse_n / CJS_A_FIRST_FORCE_N).max(FLOOR);
+                let k = of("conn_stiffness_factor").unwrap_or(1.0);
+                let k_cc2 = of("K_cc2").unwrap_or_else(|| {
+                    fe::generator::param_info("K_cc2").map_or(100.0, |p| p.midpoint())
+                });
+                let disp = force * CJS_A_INITIAL_N_PER_MM / (k * k_cc2);
+                Some(vec![
+                    ("conn_transverse_force_scale", force),
+                    ("conn_transverse_disp_scale", disp),
+                ])
+            }
+            // Acts through the yield forces' displacement scales above.
             "conn_stiffness_factor" => Some(vec![]),
             "conn_reload_force" => Some(vec![("conn_reload_force", value)]),
             "conn_unload_shift" => Some(vec![("conn_unload_shift", value)]),
@@ -133,6 +169,7 @@ impl Effect for ConnectionHysteresis {
     fn linear_part(&self) -> Option<LinearPart> {
         Some(LinearPart {
             onset: self.onset(),
+            also_beyond: &["transverse_yield_over_demand"],
             linear: &["conn_stiffness_factor"],
             nesting: &[1.0],
         })
@@ -162,23 +199,64 @@ mod tests {
             perimeter_mm: 1.0,
             perimeter_n: 10.0,
             connection_n: 90.0,
+            connection_transverse_n: 12.0,
             nominal_gap_mm: 19.0,
         };
-        for (onset, factor) in [(0.3, 1.0), (1.2, 1.0), (0.5, 2.5)] {
-            let other = [("conn_stiffness_factor", factor), ("K_cc1", 780.0)];
-            let set = ConnectionHysteresis
-                .model_parameters("yield_over_demand", onset, &other, &demand)
-                .unwrap();
-            let value = |n: &str| set.iter().find(|(m, _)| *m == n).unwrap().1;
-            let mut spec = cjs_a(value("conn_force_scale"), value("conn_disp_scale"));
-            set_compression_ratio(&mut spec, value("conn_compression_ratio"));
-            let mut joint = build(&MaterialSpec::Pinching4(Box::new(spec.clone()))).unwrap();
-            let k = 780.0 * factor;
-            for d_mm in [0.2, -0.2].map(|s| s * spec.ePd[0]) {
-                let (force_n, tangent) = joint.trial(d_mm).unwrap();
-                assert!((tangent / k - 1.0).abs() < 1e-9, "{onset} {factor}: {tangent} at {d_mm}");
-                assert!((force_n / (k * d_mm) - 1.0).abs() < 1e-9, "{force_n} at {d_mm}");
+        let onsets = [
+            ("yield_over_demand", "conn_force_scale", "conn_disp_scale", 780.0, 90.0),
+            (
+                "transverse_yield_over_demand",
+                "conn_transverse_force_scale",
+                "conn_transverse_disp_scale",
+                95.0,
+                12.0,
+            ),
+        ];
+        for (onset_name, force, disp, spring, peak_n) in onsets {
+            for (onset, factor) in [(0.3, 1.0), (1.2, 1.0), (0.5, 2.5)] {
+                let other = [("conn_stiffness_factor", factor), ("K_cc1", 780.0), ("K_cc2", 95.0)];
+                let set = ConnectionHysteresis
+                    .model_parameters(onset_name, onset, &other, &demand)
+                    .unwrap();
+                let value = |n: &str| set.iter().find(|(m, _)| *m == n).unwrap().1;
+                let mut spec = cjs_a(value(force), value(disp));
+                // The axial onset makes both joints symmetric below their first point.
+                set_compression_ratio(&mut spec, SYMMETRIC_FIRST_SLOPE);
+                assert!((spec.ePf[0] / (onset * peak_n) - 1.0).abs() < 1e-12, "{onset_name}");
+                let mut joint = build(&MaterialSpec::Pinching4(Box::new(spec.clone()))).unwrap();
+                let k = spring * factor;
+                for d_mm in [0.2, -0.2].map(|s| s * spec.ePd[0]) {
+                    let (force_n, tangent) = joint.trial(d_mm).unwrap();
+                    assert!(
+                        (tangent / k - 1.0).abs() < 1e-9,
+                        "{onset} {factor}: {tangent} at {d_mm}"
+                    );
+                    assert!((force_n / (k * d_mm) - 1.0).abs() < 1e-9, "{force_n} at {d_mm}");
+                }
             }
         }
+        let axial =
+            ConnectionHysteresis.model_parameters("yield_over_demand", 0.5, &[], &demand).unwrap();
+        assert!(axial.contains(&("conn_compression_ratio", SYMMETRIC_FIRST_SLOPE)));
+    }
+
+    /// A campaign that loads no joint across leaves the transverse springs
+    /// the baseline's, whatever the transverse onset.
+    #[test]
+    fn no_transverse_demand_no_transverse_joint() {
+        let demand = Demand {
+            perimeter_mm: 1.0,
+            perimeter_n: 10.0,
+            connection_n: 90.0,
+            connection_transverse_n: 0.0,
+            nominal_gap_mm: 19.0,
+        };
+        let set = ConnectionHysteresis.model_parameters(
+            "transverse_yield_over_demand",
+            0.2,
+            &[],
+            &demand,
+        );
+        assert_eq!(set, Some(vec![]));
     }
 }
