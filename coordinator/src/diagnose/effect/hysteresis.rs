@@ -119,14 +119,20 @@ impl Effect for ConnectionHysteresis {
         demand: &Demand,
     ) -> Option<Vec<(&'static str, f64)>> {
         let of = |n: &str| other.iter().find(|(m, _)| *m == n).map(|(_, v)| *v);
+        // A joint's first backbone force at `value` times its peak force
+        // `peak_n`, its first slope `conn_stiffness_factor` times the held
+        // spring `spring` (N/mm): (force scale, deformation scale) of CJS-A.
+        let scales = |peak_n: f64, spring: &str| {
+            let force = (value * peak_n / CJS_A_FIRST_FORCE_N).max(FLOOR);
+            let k = of("conn_stiffness_factor").unwrap_or(1.0);
+            let held = of(spring).unwrap_or_else(|| {
+                fe::generator::param_info(spring).map_or(f64::NAN, |p| p.midpoint())
+            });
+            (force, force * CJS_A_INITIAL_N_PER_MM / (k * held))
+        };
         match name {
             "yield_over_demand" => {
-                let force = (value * demand.connection_n / CJS_A_FIRST_FORCE_N).max(FLOOR);
-                let k = of("conn_stiffness_factor").unwrap_or(1.0);
-                let k_cc1 = of("K_cc1").unwrap_or_else(|| {
-                    fe::generator::param_info("K_cc1").map_or(800.0, |p| p.midpoint())
-                });
-                let disp = force * CJS_A_INITIAL_N_PER_MM / (k * k_cc1);
+                let (force, disp) = scales(demand.connection_n, "K_cc1");
                 Some(vec![
                     ("conn_force_scale", force),
                     ("conn_disp_scale", disp),
@@ -139,13 +145,7 @@ impl Effect for ConnectionHysteresis {
                     // No joint is loaded across: the springs stay elastic.
                     return Some(vec![]);
                 }
-                let force =
-                    (value * demand.connection_transverse_n / CJS_A_FIRST_FORCE_N).max(FLOOR);
-                let k = of("conn_stiffness_factor").unwrap_or(1.0);
-                let k_cc2 = of("K_cc2").unwrap_or_else(|| {
-                    fe::generator::param_info("K_cc2").map_or(100.0, |p| p.midpoint())
-                });
-                let disp = force * CJS_A_INITIAL_N_PER_MM / (k * k_cc2);
+                let (force, disp) = scales(demand.connection_transverse_n, "K_cc2");
                 Some(vec![
                     ("conn_transverse_force_scale", force),
                     ("conn_transverse_disp_scale", disp),
