@@ -16,6 +16,11 @@
 //! opening a task and its result, less encoding and decoding them) is
 //! measured beside, with the CPU per task of iceoryx2, whose only security
 //! is the MAC.
+//!
+//! `transport_bench CEILFARM_BIN --one TRANSPORT RESULT TASKS`: one farm run
+//! and nothing else (for a profiler, or to time builds against each other
+//! as whole processes): TRANSPORT `iceoryx2`, `zenoh` or `zenoh-tls`,
+//! RESULT `small` or `1MiB`, 2 workers; prints wall and CPU per task.
 
 use coordinator::farm::{run_farm, FarmSettings, ResultSink};
 use coordinator::study::{Study, TransportKind};
@@ -248,6 +253,10 @@ fn main() {
         security_cost(&args[1], n, repeats);
         return;
     }
+    if args.get(2).map(String::as_str) == Some("--one") {
+        one_run(&args[1], &args[3..]);
+        return;
+    }
     let bin = args.get(1).expect("usage: transport_bench CEILFARM_BIN [TASKS] [REPEATS] [STUDY]");
     let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2000);
     let repeats: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(3);
@@ -289,6 +298,42 @@ fn main() {
     if let Some(path) = args.get(4) {
         speedup(bin, path, repeats, &mut run);
     }
+}
+
+/// One farm run with 2 workers: `[TRANSPORT, RESULT, TASKS]` as the usage
+/// says; prints wall and CPU (coordinator + workers) per task.
+fn one_run(bin: &str, args: &[String]) {
+    let usage =
+        "usage: transport_bench CEILFARM_BIN --one iceoryx2|zenoh|zenoh-tls small|1MiB TASKS";
+    let [transport, result, n] = args else { panic!("{usage}") };
+    let n: usize = n.parse().expect(usage);
+    let samples = match result.as_str() {
+        "small" => 0,
+        "1MiB" => 131_072,
+        _ => panic!("{usage}"),
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let setup = match transport.as_str() {
+        "iceoryx2" => Setup::new(TransportKind::Iceoryx2, 0),
+        "zenoh" => Setup::new(TransportKind::Zenoh, 0),
+        "zenoh-tls" => {
+            let lab = coordinator::farm_certs::LabSettings {
+                workers: 2,
+                hosts: vec!["127.0.0.1".into(), "localhost".into()],
+                port: 7447,
+                validity_days: 1,
+            };
+            coordinator::farm_certs::write_lab(dir.path(), &lab).expect("farm certs");
+            Setup::secured(dir.path())
+        }
+        _ => panic!("{usage}"),
+    };
+    let (wall, cpu) = farm_run(&setup, bin, &noop(samples), tasks(n), 2, 2);
+    println!(
+        "{transport} {result} x2: wall {:.1} us, cpu {:.1} us per task",
+        wall * 1e6,
+        cpu * 1e6
+    );
 }
 
 /// Two-worker speed-up of a study's sweep over each transport.

@@ -74,9 +74,19 @@ pub enum CodecError {
         /// How many bytes were left.
         extra: usize,
     },
+    /// A message sealed into a buffer did not fill it exactly.
+    #[error(
+        "a sealed message does not fill its buffer of {expected} bytes exactly ({written} written)"
+    )]
+    SealedLength {
+        /// The buffer's length.
+        expected: usize,
+        /// Bytes written when the seal stopped.
+        written: usize,
+    },
 }
 
-fn config() -> impl bincode::config::Config {
+pub(crate) fn config() -> impl bincode::config::Config {
     bincode::config::standard().with_limit::<MAX_MESSAGE_BYTES>()
 }
 
@@ -101,15 +111,39 @@ fn decode_body<T: DeserializeOwned>(body: &[u8]) -> Result<(T, usize), CodecErro
 }
 
 /// Encodes a message with its version header; one larger than
-/// [`MAX_MESSAGE_BYTES`] is refused (no peer would accept it).
+/// [`MAX_MESSAGE_BYTES`] is refused (no peer would accept it). The buffer
+/// is allocated once at the message's length ([`encoded_len`]), so a
+/// megabyte result is neither copied by the buffer's growth nor left in a
+/// buffer twice its size.
 pub fn encode<T: Serialize>(msg: &T) -> Result<Vec<u8>, CodecError> {
-    let mut out = PROTOCOL_VERSION.to_le_bytes().to_vec();
+    let mut out = Vec::with_capacity(encoded_len(msg)?);
+    out.extend_from_slice(&PROTOCOL_VERSION.to_le_bytes());
     bincode::serde::encode_into_std_write(msg, &mut out, config())
         .map_err(|e| CodecError::Malformed(e.to_string()))?;
-    if out.len() > MAX_MESSAGE_BYTES {
-        return Err(CodecError::TooLarge { len: out.len(), limit: MAX_MESSAGE_BYTES });
-    }
     Ok(out)
+}
+
+/// The length of `msg` encoded, version header included, measured without
+/// copying anything (a byte blob, such as a history's samples, counts by
+/// its length); a message larger than [`MAX_MESSAGE_BYTES`] is refused.
+pub(crate) fn encoded_len<T: Serialize>(msg: &T) -> Result<usize, CodecError> {
+    let mut size = bincode::enc::write::SizeWriter::default();
+    encode_to(msg, &mut size)?;
+    let len = size.bytes_written;
+    if len > MAX_MESSAGE_BYTES {
+        return Err(CodecError::TooLarge { len, limit: MAX_MESSAGE_BYTES });
+    }
+    Ok(len)
+}
+
+/// Writes `msg` with its version header to `out`, as [`encode`] lays it out.
+pub(crate) fn encode_to<T: Serialize, W: bincode::enc::write::Writer>(
+    msg: &T,
+    out: &mut W,
+) -> Result<(), CodecError> {
+    let failed = |e: bincode::error::EncodeError| CodecError::Malformed(e.to_string());
+    out.write(&PROTOCOL_VERSION.to_le_bytes()).map_err(failed)?;
+    bincode::serde::encode_into_writer(msg, out, config()).map_err(failed)
 }
 
 /// Reads the version header of a message without decoding the rest.

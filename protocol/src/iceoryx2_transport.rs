@@ -169,6 +169,52 @@ fn send(p: &Pub, bytes: &[u8]) -> Result<(), TransportError> {
     sample.send().map(|_| ()).map_err(|e| TransportError::Closed(format!("iceoryx2 send: {e:?}")))
 }
 
+/// Copies the next sample into `into` (its bytes replaced) and says whether
+/// there was one. The tag is checked on this private copy, never on the
+/// shared memory, which another local process could change between the
+/// check and the decoding; the buffer is kept across messages, so a
+/// megabyte result costs one copy and no fresh allocation (whose pages the
+/// kernel would map and zero anew each time), unless it grew past
+/// [`INBOX_KEEP_BYTES`].
+fn receive_into(s: &Sub, into: &mut Vec<u8>) -> Result<bool, TransportError> {
+    if into.capacity() > INBOX_KEEP_BYTES {
+        *into = Vec::new();
+    }
+    into.clear();
+    match s.receive() {
+        Ok(Some(sample)) => {
+            into.extend_from_slice(sample.payload());
+            Ok(true)
+        }
+        Ok(None) => Ok(false),
+        Err(e) => Err(TransportError::Closed(format!("iceoryx2 receive: {e:?}"))),
+    }
+}
+
+/// The largest receive buffer kept from one message to the next (bytes).
+const INBOX_KEEP_BYTES: usize = 8 << 20;
+
+/// Publishes `msg` sealed for lease `seq`, written and tagged straight in a
+/// loan of shared memory ([`SweepMac::seal_into`]): no copy of the message
+/// in between.
+fn send_sealed<T: Serialize>(
+    p: &Pub,
+    mac: &SweepMac,
+    direction: Direction,
+    seq: u64,
+    msg: &T,
+) -> Result<(), TransportError> {
+    let len = crate::seal::sealed_len(msg).map_err(|e| TransportError::Setup(e.to_string()))?;
+    let mut sample = p
+        .loan_slice_uninit(len)
+        .map_err(|e| TransportError::Closed(format!("iceoryx2 loan: {e:?}")))?;
+    mac.seal_into(direction, seq, msg, sample.payload_mut())
+        .map_err(|e| TransportError::Setup(e.to_string()))?;
+    // SAFETY: `seal_into` returned `Ok`, so it wrote every byte of the payload.
+    let sample = unsafe { sample.assume_init() };
+    sample.send().map(|_| ()).map_err(|e| TransportError::Closed(format!("iceoryx2 send: {e:?}")))
+}
+
 fn receive(s: &Sub) -> Result<Option<Vec<u8>>, TransportError> {
     match s.receive() {
         Ok(Some(sample)) => Ok(Some(sample.payload().to_vec())),
@@ -282,6 +328,9 @@ pub struct IceoryxCoordinator {
     next_seq: u64,
     /// Tasks sent and not answered, by lease sequence number.
     leases: HashMap<u64, (WorkerId, TaskId)>,
+    /// The last message read off the result channel: one buffer kept
+    /// from message to message (see [`receive_into`]).
+    inbox: Vec<u8>,
 }
 
 impl IceoryxCoordinator {
@@ -304,6 +353,7 @@ impl IceoryxCoordinator {
             mac: None,
             next_seq: 1,
             leases: HashMap::new(),
+            inbox: Vec::new(),
         }
     }
 
@@ -482,10 +532,7 @@ impl Transport for IceoryxCoordinator {
         let mac = self.mac.as_ref().ok_or_else(|| TransportError::Closed("not started".into()))?;
         let seq = self.next_seq;
         let id = task.id;
-        let bytes = mac
-            .seal(Direction::ToWorker, seq, &ToWorker::Task(task))
-            .map_err(|e| TransportError::Setup(e.to_string()))?;
-        send(&w.tasks, &bytes)?;
+        send_sealed(&w.tasks, mac, Direction::ToWorker, seq, &ToWorker::Task(task))?;
         self.next_seq += 1;
         self.leases.insert(seq, (worker, id));
         let _ = w.wake.notify();
@@ -498,13 +545,18 @@ impl Transport for IceoryxCoordinator {
             if let Some(ev) = self.pending.pop_front() {
                 return Ok(Some(ev));
             }
-            let msg = match &self.results {
-                Some((sub, _)) => receive(sub)?,
+            let got = match &self.results {
+                Some((sub, _)) => receive_into(sub, &mut self.inbox)?,
                 None => return Err(TransportError::Closed("not started".into())),
             };
-            match msg {
-                Some(bytes) => self.on_message(&bytes)?,
-                None => {
+            match got {
+                true => {
+                    let bytes = std::mem::take(&mut self.inbox);
+                    let handled = self.on_message(&bytes);
+                    self.inbox = bytes;
+                    handled?
+                }
+                false => {
                     self.check_liveness();
                     if !self.pending.is_empty() {
                         continue;
@@ -571,11 +623,13 @@ impl ResultPort {
     /// Publishes `msg`, sealed for lease `seq` (0: not about a task).
     fn publish(&self, seq: u64, msg: FromWorker) -> Result<(), TransportError> {
         let env = Envelope { from: self.from.clone(), node: self.node, msg };
-        let bytes = match &self.mac {
-            Some(mac) => mac.seal(Direction::FromWorker, seq, &env),
-            None => codec::encode(&env),
-        };
-        send(&self.publisher, &bytes.map_err(|e| TransportError::Setup(e.to_string()))?)?;
+        match &self.mac {
+            Some(mac) => send_sealed(&self.publisher, mac, Direction::FromWorker, seq, &env)?,
+            None => send(
+                &self.publisher,
+                &codec::encode(&env).map_err(|e| TransportError::Setup(e.to_string()))?,
+            )?,
+        }
         let _ = self.wake.notify();
         Ok(())
     }

@@ -26,14 +26,11 @@ pub fn from_le_bytes(bytes: &[u8]) -> Option<Vec<f64>> {
     if !bytes.len().is_multiple_of(8) {
         return None;
     }
-    let mut out = vec![0.0f64; bytes.len() / 8];
-    if cfg!(target_endian = "little") {
-        bytemuck::cast_slice_mut::<f64, u8>(&mut out).copy_from_slice(bytes);
-    } else {
-        for (x, c) in out.iter_mut().zip(bytes.chunks_exact(8)) {
-            *x = f64::from_le_bytes(c.try_into().expect("8 bytes"));
-        }
-    }
+    // Written once, straight into a fresh buffer: a zeroed one (and then a
+    // copy over it) writes every byte twice. On a little-endian machine the
+    // compiler makes this loop a plain copy.
+    let mut out = Vec::with_capacity(bytes.len() / 8);
+    out.extend(bytes.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes"))));
     Some(out)
 }
 
