@@ -317,13 +317,7 @@ fn one_run(bin: &str, args: &[String]) {
         "iceoryx2" => Setup::new(TransportKind::Iceoryx2, 0),
         "zenoh" => Setup::new(TransportKind::Zenoh, 0),
         "zenoh-tls" => {
-            let lab = coordinator::farm_certs::LabSettings {
-                workers: 2,
-                hosts: vec!["127.0.0.1".into(), "localhost".into()],
-                port: 7447,
-                validity_days: 1,
-            };
-            coordinator::farm_certs::write_lab(dir.path(), &lab).expect("farm certs");
+            write_loopback_lab(dir.path());
             Setup::secured(dir.path())
         }
         _ => panic!("{usage}"),
@@ -506,6 +500,17 @@ fn mac_cost(spec: &ModelSpec, n: usize) -> f64 {
     median(rounds)
 }
 
+/// A lab's CA, coordinator and two worker certificates for loopback in `dir`.
+fn write_loopback_lab(dir: &std::path::Path) {
+    let lab = coordinator::farm_certs::LabSettings {
+        workers: 2,
+        hosts: vec!["127.0.0.1".into(), "localhost".into()],
+        port: 7447,
+        validity_days: 1,
+    };
+    coordinator::farm_certs::write_lab(dir, &lab).expect("farm certs");
+}
+
 /// Plain zenoh against zenoh with `farm certs`' TLS, mutual authentication
 /// and access control, on loopback: per pair (plain run, then secured run,
 /// the same tasks) the one-at-a-time round trip through the farm (1
@@ -518,13 +523,7 @@ fn mac_cost(spec: &ModelSpec, n: usize) -> f64 {
 fn security_cost(bin: &str, n: usize, repeats: usize) {
     REPORT_SHORT_RUNS.store(true, std::sync::atomic::Ordering::Relaxed);
     let dir = tempfile::tempdir().expect("temp dir");
-    let lab = coordinator::farm_certs::LabSettings {
-        workers: 2,
-        hosts: vec!["127.0.0.1".into(), "localhost".into()],
-        port: 7447,
-        validity_days: 1,
-    };
-    coordinator::farm_certs::write_lab(dir.path(), &lab).expect("farm certs");
+    write_loopback_lab(dir.path());
     println!("zenoh on loopback, plain (tcp/) vs secured (tls/, mTLS, access control);");
     println!("rtt: one task at a time, 1 worker; wall, cpu: per task, 2 workers");
     println!("(cpu = coordinator + workers; ratio = secured / plain; load = 1-min average)");
