@@ -8,7 +8,7 @@
 //! (to compare answers between solver versions).
 //!
 //! `cargo run -p ceilfarm-fe --example transient_variants -- [small|mid|type-c|all]
-//!  [rigid|elastic|pinching4|all] [N_STEPS] [OUT_DIR|-] [supernodal|simplicial|auto]
+//!  [rigid|elastic|pinching4|pinching4-transverse|all] [N_STEPS] [OUT_DIR|-] [supernodal|simplicial|auto]
 //!  [STALE_MAX_ITER] [--whole]`
 //!
 //! `--whole`: Newton on the whole structure, never condensed onto the
@@ -29,6 +29,16 @@
 //! steps, CPU s, against `--whole`): small Pinching4 (90 nonlinear springs)
 //! 0.22 vs 0.45, mid (190) 0.94 vs 1.13; type C has more springs than are
 //! condensed.
+//!
+//! `pinching4-transverse`: the tee joints' transverse springs are Pinching4
+//! too (`conn_transverse_force_scale` 1). Mid, 2000 steps, release, CPU s,
+//! at commit 7137fe7 on the shared machine with one other busy process:
+//! 316 nonlinear springs, so whole Newton, 1.16–1.32 s; condensed (the
+//! limit raised for the measurement) 2.2–2.5 s, since 220–262 springs leave
+//! their initial tangent in most steps and the dense LU of that order costs
+//! more than the sparse refactorization. Axial joints only (190 springs):
+//! condensed 0.70–0.81 s against whole 1.00–1.10 s, with up to 136 active.
+//! The limit of 192 stays.
 
 use std::path::{Path, PathBuf};
 
@@ -133,12 +143,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if which != "all" && which != name {
             continue;
         }
-        for c in [Connections::Rigid, Connections::Elastic, Connections::Pinching4] {
-            if conn != "all" && conn != c.name() {
+        let variants = [
+            (Connections::Rigid, false),
+            (Connections::Elastic, false),
+            (Connections::Pinching4, false),
+            (Connections::Pinching4, true),
+        ];
+        for (c, transverse) in variants {
+            let label = if transverse { format!("{}-transverse", c.name()) } else { c.name().to_string() };
+            if conn != "all" && conn != label {
                 continue;
             }
             let spec = base.with_model(ModelOptions::new(Perimeter::FrictionPounding, c));
-            let m = generate(&spec, &Parameters::prior_midpoints_for(&spec))?;
+            let mut p = Parameters::prior_midpoints_for(&spec);
+            if transverse {
+                p.set("conn_transverse_force_scale", 1.0)?;
+            }
+            let m = generate(&spec, &p)?;
             let n_springs = m.springs.len();
             let m = with_sweep(m, n_steps);
             let (mut steps, mut iters, mut subs, mut facts, mut lr, mut cols, mut stale) =
@@ -177,7 +198,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                  \"newton_iterations\": {iters}, \"factorizations\": {facts}, \
                  \"low_rank_updates\": {lr}, \"column_solves\": {cols}, \"stale_iterations\": {stale}, \"dense_factorizations\": {dense}, \"peak_u_x_mm\": {:.9e}, \"peak_friction_mm\": {:.9e}, \
                  \"peak_gap_n\": {:.9e}, \"peak_joint_mm\": {:.9e}}}",
-                c.name(),
+                label,
                 peak(&h, "u_x"),
                 peak(&h, "friction_"),
                 peak(&h, "gap_"),
@@ -185,7 +206,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
             if let Some(dir) = &out_dir {
                 std::fs::create_dir_all(dir)?;
-                write_history_csv(&h, &dir.join(format!("{name}_{}.csv", c.name())))?;
+                write_history_csv(&h, &dir.join(format!("{name}_{label}.csv")))?;
             }
         }
     }
