@@ -150,7 +150,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             (Connections::Pinching4, true),
         ];
         for (c, transverse) in variants {
-            let label = if transverse { format!("{}-transverse", c.name()) } else { c.name().to_string() };
+            let label =
+                if transverse { format!("{}-transverse", c.name()) } else { c.name().to_string() };
             if conn != "all" && conn != label {
                 continue;
             }
