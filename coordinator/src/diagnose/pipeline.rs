@@ -32,7 +32,9 @@ use super::posterior_check::{checked_posterior, rounds as check_rounds};
 use super::refine::{planned_runs, refine, refine_walks, twin_walks};
 use super::resume::peak_search;
 use super::stage_load::{CurrentStage, LoadMeter, StageLoad};
-use super::unexplained::{channel_misses, unexplained, Miss, Unexplained, Where};
+use super::unexplained::{
+    calibration_misses, channel_misses, unexplained, Miss, Unexplained, Where,
+};
 use crate::bundle::{Bundle, Direction, RunRole};
 use stats::gp::Gp;
 use std::cell::RefCell;
@@ -1382,7 +1384,7 @@ fn assess(
         out.calibration_error = mean_nrmse(ch);
         let own: Vec<f64> = ch.iter().map(|c| c.noise_var).collect();
         out.calibration_excess_error = mean_excess_nrmse(ch, &own);
-        out.calibration_misses = channel_misses(ch, None, Where::CalibrationRun);
+        out.calibration_misses = calibration_misses(ch);
     }
     simulate_estimate(b, cal, best, runs, exec, &mut out)?;
     Ok(out)

@@ -5,9 +5,10 @@
 //!
 //! - a channel of a linear run (the weakest run in a shaken direction,
 //!   where no effect is engaged yet) that the named model misses by more
-//!   than [`GROSS`] times [`EXPLAINED_ERROR`] beyond the noise: no model
-//!   follows that sensor even there (its sign or gain is wrong, or the
-//!   specimen is not the kind of ceiling modelled);
+//!   than [`GROSS`] times [`EXPLAINED_ERROR`] beyond the noise, however
+//!   little of it is signal ([`calibration_misses`]): no model follows that
+//!   sensor even there (its sign or gain is wrong, or the specimen is not
+//!   the kind of ceiling modelled);
 //! - the validation runs, when the named model misses them by more than
 //!   [`EXPLAINED_ERROR`] on average and does not improve on the baseline's
 //!   prediction by at least [`EXPLAINING_GAIN`] (with `none` named, gain 0:
@@ -54,6 +55,15 @@ pub const EXPLAINING_GAIN: f64 = 0.5;
 /// the noise estimate ([`super::noise_floor::signal_share`]: a 5 % error in
 /// σ² reads as 0.25 at a share of 0.3), and the channel says little.
 pub const MIN_SIGNAL_SHARE: f64 = 0.5;
+
+/// Standard errors of a channel's noise-variance estimate by which a
+/// calibration channel's noise is raised before its miss is judged
+/// ([`calibration_misses`]): the nugget of n white-noise samples has a
+/// relative standard error of 2/√n (measured: 4000 draws of n = 1000 and
+/// 6000 gave n·var = 3.84 and 4.05), and two of them leave about one
+/// channel in forty of an exact model above its noise by the estimate's
+/// error alone.
+pub const NOISE_SD_SPAN: f64 = 2.0;
 
 /// Where a miss was seen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -155,6 +165,37 @@ pub fn channel_misses(fits: &[ChannelFit], noise_var: Option<&[f64]>, at: Where)
     out
 }
 
+/// The channels of a calibration run's fit `fits` that the model misses
+/// by more than [`EXPLAINED_ERROR`] beyond the noise whatever their noise
+/// variance within [`NOISE_SD_SPAN`] standard errors of its estimate
+/// (σ² (1 ± 2 · 2/√n)), worst first, each with the least excess error
+/// over that range (at its top when the model beats predicting zero, else
+/// at its bottom). Unlike [`channel_misses`], a channel with little signal
+/// is judged too: the range makes its noise estimate's error harmless (an
+/// exact model's excess comes out 0), while a sign flipped on a channel
+/// whose signal is a third of its power is still a miss of about 180 %.
+pub fn calibration_misses(fits: &[ChannelFit]) -> Vec<Miss> {
+    let mut out: Vec<Miss> = fits
+        .iter()
+        .filter(|c| c.excited && c.n > 0)
+        .map(|c| {
+            let span = NOISE_SD_SPAN * 2.0 / (c.n as f64).sqrt();
+            let (mse, ms) = (c.ssr / c.n as f64, c.rms_meas * c.rms_meas);
+            let at = |f: f64| excess_nrmse(mse, ms, (c.noise_var * f).min(ms));
+            let excess_error = at(1.0 + span).min(at((1.0 - span).max(0.0)));
+            Miss {
+                at: Where::CalibrationRun,
+                run: c.run.clone(),
+                sensor: c.sensor.clone(),
+                excess_error,
+            }
+        })
+        .filter(|m| m.excess_error > EXPLAINED_ERROR)
+        .collect();
+    out.sort_by(|a, b| b.excess_error.total_cmp(&a.excess_error));
+    out
+}
+
 impl Unexplained {
     /// One sentence a miss: which runs and sensors, by how much.
     pub fn lines(&self) -> Vec<String> {
@@ -246,9 +287,32 @@ mod tests {
     }
 
     #[test]
+    fn a_flipped_sign_on_a_noisy_channel_is_a_calibration_miss_and_its_noise_is_not() {
+        // A third of the power signal: below MIN_SIGNAL_SHARE, so the
+        // validation check would not judge it.
+        let fits = [
+            channel("flipped", 2.0, 0.67),
+            channel("exact", 0.0, 0.67),
+            channel("noise-only", 0.0, 0.99),
+            channel("good", 0.1, 0.67),
+        ];
+        assert!(channel_misses(&fits, None, Where::CalibrationRun).is_empty());
+        let misses = calibration_misses(&fits);
+        let named: Vec<&str> = misses.iter().map(|m| m.sensor.as_str()).collect();
+        assert_eq!(named, ["flipped"], "{misses:?}");
+        assert!(misses[0].excess_error > 1.8 && misses[0].excess_error < 2.0, "{misses:?}");
+        // The noise estimate 4 % low (1.5 standard errors at n = 1000):
+        // an exact model still misses nothing.
+        let mut low = channel("exact", 0.0, 0.67);
+        low.noise_var *= 0.96;
+        assert!(calibration_misses(&[low]).is_empty());
+    }
+
+    #[test]
     fn an_unshaken_channel_is_not_judged() {
         let mut c = channel("across", 2.0, 0.01);
         c.excited = false;
-        assert!(channel_misses(&[c], None, Where::ValidationRun).is_empty());
+        assert!(channel_misses(&[c.clone()], None, Where::ValidationRun).is_empty());
+        assert!(calibration_misses(&[c]).is_empty());
     }
 }
