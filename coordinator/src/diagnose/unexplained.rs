@@ -143,26 +143,11 @@ pub fn unexplained(d: &Diagnosis, undecided: Vec<Cause>) -> Option<Unexplained> 
 pub fn channel_misses(fits: &[ChannelFit], noise_var: Option<&[f64]>, at: Where) -> Vec<Miss> {
     let noise =
         |k: usize, c: &ChannelFit| noise_var.and_then(|v| v.get(k).copied()).unwrap_or(c.noise_var);
-    let mut out: Vec<Miss> = fits
-        .iter()
-        .enumerate()
-        .filter(|(k, c)| {
-            c.excited && signal_share(c.rms_meas * c.rms_meas, noise(*k, c)) >= MIN_SIGNAL_SHARE
-        })
-        .map(|(k, c)| Miss {
-            at,
-            run: c.run.clone(),
-            sensor: c.sensor.clone(),
-            excess_error: excess_nrmse(
-                c.ssr / c.n.max(1) as f64,
-                c.rms_meas * c.rms_meas,
-                noise(k, c),
-            ),
-        })
-        .filter(|m| m.excess_error > EXPLAINED_ERROR)
-        .collect();
-    out.sort_by(|a, b| b.excess_error.total_cmp(&a.excess_error));
-    out
+    ranked_misses(fits, at, |k, c| {
+        let ms = c.rms_meas * c.rms_meas;
+        (signal_share(ms, noise(k, c)) >= MIN_SIGNAL_SHARE)
+            .then(|| excess_nrmse(c.ssr / c.n.max(1) as f64, ms, noise(k, c)))
+    })
 }
 
 /// The channels of a calibration run's fit `fits` that the model misses
@@ -175,22 +160,33 @@ pub fn channel_misses(fits: &[ChannelFit], noise_var: Option<&[f64]>, at: Where)
 /// exact model's excess comes out 0), while a sign flipped on a channel
 /// whose signal is a third of its power is still a miss of about 180 %.
 pub fn calibration_misses(fits: &[ChannelFit]) -> Vec<Miss> {
-    let mut out: Vec<Miss> = fits
-        .iter()
-        .filter(|c| c.excited && c.n > 0)
-        .map(|c| {
-            let span = NOISE_SD_SPAN * 2.0 / (c.n as f64).sqrt();
-            let (mse, ms) = (c.ssr / c.n as f64, c.rms_meas * c.rms_meas);
-            let at = |f: f64| excess_nrmse(mse, ms, (c.noise_var * f).min(ms));
-            let excess_error = at(1.0 + span).min(at((1.0 - span).max(0.0)));
-            Miss {
-                at: Where::CalibrationRun,
+    ranked_misses(fits, Where::CalibrationRun, |_, c| {
+        let span = NOISE_SD_SPAN * 2.0 / (c.n.max(1) as f64).sqrt();
+        let (mse, ms) = (c.ssr / c.n.max(1) as f64, c.rms_meas * c.rms_meas);
+        let at = |f: f64| excess_nrmse(mse, ms, (c.noise_var * f).min(ms));
+        (c.n > 0).then(|| at(1.0 + span).min(at((1.0 - span).max(0.0))))
+    })
+}
+
+/// The excited channels of `fits` whose excess error (`excess` of the
+/// channel and its index; None: not judged) exceeds [`EXPLAINED_ERROR`],
+/// as misses seen `at`, worst first.
+fn ranked_misses(
+    fits: &[ChannelFit],
+    at: Where,
+    excess: impl Fn(usize, &ChannelFit) -> Option<f64>,
+) -> Vec<Miss> {
+    let mut out: Vec<Miss> = (fits.iter().enumerate())
+        .filter(|(_, c)| c.excited)
+        .filter_map(|(k, c)| {
+            let excess_error = excess(k, c)?;
+            (excess_error > EXPLAINED_ERROR).then(|| Miss {
+                at,
                 run: c.run.clone(),
                 sensor: c.sensor.clone(),
                 excess_error,
-            }
+            })
         })
-        .filter(|m| m.excess_error > EXPLAINED_ERROR)
         .collect();
     out.sort_by(|a, b| b.excess_error.total_cmp(&a.excess_error));
     out
